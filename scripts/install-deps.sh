@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# Installs every Debian package segmesh's build, tests and demo need, and the npm tools the tests
+# use (the Khronos glTF validator). Idempotent: does nothing when everything is present.
+# Uses sudo only when not root.
+#   scripts/install-deps.sh              build, test and demo dependencies
+#   scripts/install-deps.sh --with-peers also the Python/VTK/scikit-image peers used by bench/
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(
+  cmake ninja-build g++ make pkg-config git     # build
+  libinsighttoolkit5-dev zlib1g-dev             # volume formats (NIfTI, NRRD, MHA, DICOM)
+  libtbb-dev                                    # threads (oneTBB)
+  libeigen3-dev                                 # small linear algebra
+  libcli11-dev libfmt-dev nlohmann-json3-dev    # command line, formatting, JSON reports
+  libtinygltf-dev libmeshoptimizer-dev libstb-dev  # glTF, mesh optimisation, PNG
+  googletest libgtest-dev libbenchmark-dev      # tests and benchmarks
+)
+if [[ "${1:-}" == "--with-peers" ]]; then
+  packages+=(python3-vtk9 python3-skimage python3-numpy python3-nibabel python3-scipy)
+fi
+# Node.js and npm run the glTF validator in the tests; a machine may already have its own.
+if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
+  packages+=(nodejs npm)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+sudo_cmd=()
+if [[ $(id -u) -ne 0 ]]; then sudo_cmd=(sudo); fi
+
+if ((${#missing[@]})); then
+  echo "install-deps: installing ${missing[*]}"
+  "${sudo_cmd[@]}" apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends \
+    "${missing[@]}" >/dev/null
+fi
+
+# npm tools, pinned by tools/npm/package-lock.json.
+if [[ ! -f tools/npm/node_modules/gltf-validator/package.json ]]; then
+  echo "install-deps: installing the glTF validator (npm)"
+  (cd tools/npm && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+fi
+echo "install-deps: all dependencies present"

@@ -1,0 +1,55 @@
+// Part and Scene: what the pipeline produces, writers write and the viewer shows.
+//
+// A Part is one connected component of one label (or of a grey-value iso-surface), with its name,
+// role, material and mesh in world millimetres. Parts of a label are numbered 1, 2, ... from the
+// largest component down.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "segmesh/grid.hpp"
+#include "segmesh/label_info.hpp"
+#include "segmesh/tri_mesh.hpp"
+
+namespace segmesh {
+
+// glTF-style metallic-roughness material.
+struct Material {
+  Rgb base_color;
+  float metallic = 0;
+  float roughness = 0.6f;
+};
+
+// The look of a role: bone white and dielectric; implant red, metallic 1, roughness 0.7 (the
+// reference viewer's implant material); other parts from `color` or a per-label palette colour.
+Material default_material(Role role, int32_t label, std::optional<Rgb> color);
+
+// Column-major 4x4 rigid transform applied on top of the world coordinates (the viewer moves parts).
+using Transform = std::array<double, 16>;
+inline constexpr Transform identity_transform() {
+  return {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+}
+
+struct Part {
+  std::string name;
+  int32_t label = 0;
+  int component = 1;  // 1 = the label's largest connected component
+  Role role = Role::other;
+  Material material;
+  int64_t voxels = 0;             // voxels in this component
+  double voxel_volume_mm3 = 0;    // voxels times the voxel volume
+  TriMesh mesh;                   // world millimetres
+  Transform transform = identity_transform();
+  bool visible = true;
+};
+
+struct Scene {
+  Grid grid;  // the source volume's grid
+  std::vector<Part> parts;
+};
+
+}  // namespace segmesh
