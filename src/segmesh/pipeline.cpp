@@ -1,0 +1,218 @@
+#include "segmesh/pipeline.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <string>
+
+#include "segmesh/component_field.hpp"
+#include "segmesh/components.hpp"
+#include "segmesh/error.hpp"
+#include "segmesh/label_stats.hpp"
+#include "segmesh/marching_cubes.hpp"
+
+namespace segmesh {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+std::string format_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+std::string label_list(const std::vector<LabelCount>& counts, size_t max_shown = 20) {
+  std::string s;
+  size_t shown = 0;
+  for (const LabelCount& c : counts) {
+    if (c.label == 0) continue;
+    if (shown == max_shown) return s + ", ...";
+    s += (shown++ ? ", " : "") + std::to_string(c.label);
+  }
+  return s.empty() ? "none" : s;
+}
+
+void validate(const MeshingOptions& o) {
+  if (o.connectivity != 6 && o.connectivity != 18 && o.connectivity != 26) {
+    throw Error("--connectivity must be 6, 18 or 26 (got " + std::to_string(o.connectivity) + ")");
+  }
+  if (o.min_voxels < 0) throw Error("--min-voxels must not be negative");
+  if (o.iso && !std::isfinite(*o.iso)) throw Error("--iso must be a finite number");
+}
+
+// The components to mesh, checked against what the volume holds.
+Components label_components(const Image& image, const LabelVolume& labels,
+                            const MeshingOptions& o, Progress& progress) {
+  const auto counts = count_labels(labels);
+  const bool any_foreground =
+      std::any_of(counts.begin(), counts.end(), [](const LabelCount& c) { return c.label != 0; });
+  if (!any_foreground) {
+    throw Error(image.path + ": no foreground: every voxel is 0; nothing to mesh");
+  }
+  for (int32_t wanted : o.labels) {
+    const bool present = std::any_of(counts.begin(), counts.end(), [&](const LabelCount& c) {
+      return c.label == wanted && wanted != 0;
+    });
+    if (!present) {
+      throw Error(image.path + ": label " + std::to_string(wanted) +
+                  " is not in the volume (labels present: " + label_list(counts) + ")");
+    }
+  }
+  if (o.labels.empty() && counts.size() > kMaxLabelsWithoutSelection) {
+    throw Error(image.path + ": " + std::to_string(counts.size()) +
+                " distinct values: this looks like a grey-value image, not a label map; give "
+                "--iso VALUE (for bone in CT about 200-300 HU) or choose labels with --labels");
+  }
+  return find_components(labels, {.connectivity = o.connectivity, .labels = o.labels}, progress);
+}
+
+template <class T>
+Components iso_components(const Image& image, const Volume<T>& volume, double iso,
+                          const MeshingOptions& o, Progress& progress, ValueRange& range) {
+  range = value_range(volume);
+  Components components = find_components_above(volume, iso, o.connectivity, progress);
+  if (components.components.empty()) {
+    throw Error(image.path + ": no voxel reaches --iso " + format_number(iso) +
+                " (values range from " + format_number(range.min) + " to " +
+                format_number(range.max) + ")");
+  }
+  return components;
+}
+
+Part describe_part(const Image& image, const MeshingOptions& o, const Component& c, bool grey) {
+  Part part;
+  part.label = c.label;
+  part.component = c.index;
+  part.voxels = c.voxels;
+  part.voxel_volume_mm3 = double(c.voxels) * image.grid().voxel_volume();
+  std::optional<Rgb> color;
+  std::string base;
+  if (grey) {
+    base = "iso" + format_number(*o.iso);
+    part.role = Role::other;
+  } else {
+    const LabelInfo* info = find_label_info(o.label_names, c.label);
+    if (!info) info = find_label_info(image.labels, c.label);
+    if (info && !info->name.empty()) {
+      base = info->name;
+      part.role = info->role.value_or(Role::other);
+    } else {
+      base = "label" + std::to_string(c.label);
+      // The reference data's convention: 1 bone, 2 implant.
+      part.role = info && info->role ? *info->role
+                  : c.label == 1     ? Role::bone
+                  : c.label == 2     ? Role::implant
+                                     : Role::other;
+    }
+    if (info) color = info->color;
+  }
+  part.name = part_name(base, c.index);
+  part.material = default_material(part.role, c.label, color);
+  return part;
+}
+
+}  // namespace
+
+std::string_view method_name(Method) { return "mc"; }
+
+std::optional<Method> parse_method(std::string_view name) {
+  if (name == "mc") return Method::marching_cubes;
+  return std::nullopt;
+}
+
+std::string_view normals_name(NormalMethod normals) {
+  return normals == NormalMethod::sobel ? "sobel" : "central";
+}
+
+std::optional<NormalMethod> parse_normals(std::string_view name) {
+  if (name == "central") return NormalMethod::central;
+  if (name == "sobel") return NormalMethod::sobel;
+  return std::nullopt;
+}
+
+std::string part_name(std::string_view base, int component) {
+  return std::string(base) + "_" + std::to_string(component);
+}
+
+Scene build_scene(const Image& image, const MeshingOptions& o, Progress& progress,
+                  PipelineTimings* timings) {
+  validate(o);
+  PipelineTimings local;
+  PipelineTimings& t = timings ? *timings : local;
+  Scene scene;
+  scene.grid = image.grid();
+  const bool grey = o.iso.has_value();
+  if (!grey && !image.is_integer()) {
+    throw Error(image.path + ": " + image.voxel_type +
+                " values are not labels; give --iso VALUE to extract an iso-surface");
+  }
+  if (grey && !o.labels.empty()) {
+    throw Error("--labels and --iso exclude each other: --iso meshes a grey-value volume");
+  }
+
+  // Connected components.
+  progress.step("components");
+  auto start = Clock::now();
+  Components components;
+  ValueRange range;
+  if (!grey) {
+    components = label_components(image, std::get<LabelVolume>(image.volume), o, progress);
+  } else if (image.is_integer()) {
+    components = iso_components(image, std::get<LabelVolume>(image.volume), *o.iso, o, progress, range);
+  } else {
+    components = iso_components(image, std::get<ScalarVolume>(image.volume), *o.iso, o, progress, range);
+  }
+  std::vector<const Component*> kept;
+  for (const Component& c : components.components) {
+    if (c.voxels >= o.min_voxels) kept.push_back(&c);
+  }
+  t.dropped_components = static_cast<int64_t>(components.components.size() - kept.size());
+  if (kept.empty()) {
+    throw Error(image.path + ": every component is smaller than --min-voxels " +
+                std::to_string(o.min_voxels) + "; lower it");
+  }
+  t.components_ms = ms_since(start);
+
+  // Extraction, one part per component.
+  progress.step("marching cubes");
+  start = Clock::now();
+  scene.parts.resize(kept.size());
+  int64_t total_voxels = 0;
+  for (const Component* c : kept) total_voxels += c->voxels;
+  std::atomic<int64_t> done_voxels{0};
+  // Outside the volume a grey-value field continues with its lowest value (or just below iso).
+  const float background = grey ? static_cast<float>(std::min(range.min, *o.iso - 1.0)) : 0.0f;
+  const McOptions mc{.iso = grey ? *o.iso : 0.5, .connectivity = o.connectivity, .normals = o.normals};
+  tbb::parallel_for(size_t{0}, kept.size(), [&](size_t p) {
+    throw_if_cancelled(progress);
+    const Component& c = *kept[p];
+    Part part = describe_part(image, o, c, grey);
+    if (!grey) {
+      part.mesh = marching_cubes(component_mask(image.grid(), components, c), mc);
+    } else if (image.is_integer()) {
+      part.mesh = marching_cubes(component_values(std::get<LabelVolume>(image.volume), components,
+                                                  c, *o.iso, background),
+                                 mc);
+    } else {
+      part.mesh = marching_cubes(component_values(std::get<ScalarVolume>(image.volume),
+                                                  components, c, *o.iso, background),
+                                 mc);
+    }
+    scene.parts[p] = std::move(part);
+    progress.update(double(done_voxels += c.voxels) / double(total_voxels));
+  });
+  t.extract_ms = ms_since(start);
+  return scene;
+}
+
+}  // namespace segmesh

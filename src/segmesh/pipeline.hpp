@@ -1,0 +1,65 @@
+// The pipeline: the one path from a volume to a scene of meshed parts. The command line, the
+// viewer, the benchmarks and the tests all call build_scene; none of them re-implements a step.
+//
+//   volume ──► select labels ──► connected components ──► extract (Marching Cubes) ──► Scene
+//
+// Label maps: every selected label is split into connected components (components.hpp); each
+// component becomes a Part, extracted from its own 0/1 indicator at 0.5 (component_field.hpp), so
+// parts never share vertices and each is closed on its own. Grey-value volumes (--iso): the
+// voxels at or above iso are split the same way and each component is extracted from the grey
+// values themselves. Parts are extracted in parallel; the result does not depend on the number of
+// threads.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "segmesh/gradient.hpp"
+#include "segmesh/image.hpp"
+#include "segmesh/label_info.hpp"
+#include "segmesh/progress.hpp"
+#include "segmesh/scene.hpp"
+
+namespace segmesh {
+
+enum class Method { marching_cubes };
+
+std::string_view method_name(Method method);
+std::optional<Method> parse_method(std::string_view name);  // "mc"
+std::string_view normals_name(NormalMethod normals);
+std::optional<NormalMethod> parse_normals(std::string_view name);  // "central", "sobel"
+
+struct MeshingOptions {
+  Method method = Method::marching_cubes;
+  std::vector<int32_t> labels;   // labels to mesh; empty: every non-zero label
+  std::optional<double> iso;     // mesh a grey-value volume at this value instead of labels
+  int connectivity = 26;         // voxel connectivity of parts: 6, 18 or 26
+  int64_t min_voxels = 0;        // drop components with fewer voxels (0 keeps everything)
+  NormalMethod normals = NormalMethod::central;
+  std::vector<LabelInfo> label_names;  // --label-names: override the names the file carries
+};
+
+struct PipelineTimings {
+  double components_ms = 0;
+  double extract_ms = 0;
+  double smooth_ms = 0;
+  int64_t dropped_components = 0;  // smaller than min_voxels
+};
+
+// A label map with more distinct values than this is taken for a grey-value image unless the
+// labels to mesh are named explicitly.
+inline constexpr size_t kMaxLabelsWithoutSelection = 1000;
+
+// Builds the scene. Throws segmesh::Error (naming image.path) for requests the volume cannot
+// satisfy: a float volume without iso, a label that is not in the volume, no foreground at all,
+// nothing left after --min-voxels, invalid options. Throws Cancelled when progress is cancelled.
+Scene build_scene(const Image& image, const MeshingOptions& options,
+                  Progress& progress = null_progress(), PipelineTimings* timings = nullptr);
+
+// The name of a part: "<label name>_<k>", "label<L>_<k>" for unnamed labels, "iso<V>_<k>" for
+// grey-value components.
+std::string part_name(std::string_view base, int component);
+
+}  // namespace segmesh
