@@ -1,0 +1,159 @@
+#include "segmesh_io/mesh_io_detail.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <stdexcept>
+#include <system_error>
+
+namespace segmesh::mesh_io {
+
+namespace fs = std::filesystem;
+
+void check_mesh(const Part& part) {
+  const TriMesh& m = part.mesh;
+  const auto bad = [&](const std::string& what) {
+    throw std::invalid_argument("mesh of part '" + part.name + "': " + what);
+  };
+  if (m.indices.size() % 3 != 0) bad("index count is not a multiple of 3");
+  if (!m.normals.empty() && m.normals.size() != m.positions.size()) bad("normals/positions differ");
+  if (!m.colors.empty() && m.colors.size() != m.positions.size()) bad("colors/positions differ");
+  if (m.positions.size() > std::numeric_limits<uint32_t>::max()) bad("too many vertices");
+  const size_t n = m.positions.size();
+  for (uint32_t i : m.indices) {
+    if (i >= n) bad("index out of range");
+  }
+}
+
+PartList parts_to_write(const Scene& scene) {
+  PartList parts;
+  for (const Part& part : scene.parts) {
+    check_mesh(part);
+    if (!part.mesh.empty()) parts.push_back(&part);
+  }
+  return parts;
+}
+
+void fail(const fs::path& file, const std::string& message) {
+  throw Error(file.string() + ": " + message);
+}
+
+std::string read_whole_file(const fs::path& file) {
+  std::error_code ec;
+  if (!fs::exists(file, ec)) fail(file, "no such file");
+  if (fs::is_directory(file, ec)) fail(file, "is a folder, not a mesh file");
+  const auto size = fs::file_size(file, ec);
+  if (ec) fail(file, "cannot read the file size (" + ec.message() + ")");
+  std::ifstream in(file, std::ios::binary);
+  if (!in) fail(file, "cannot open the file for reading; check its permissions");
+  std::string bytes(static_cast<size_t>(size), '\0');
+  in.read(bytes.data(), static_cast<std::streamsize>(size));
+  if (static_cast<uintmax_t>(in.gcount()) != size) fail(file, "could not read the whole file");
+  return bytes;
+}
+
+bool is_identity(const Transform& t) { return t == identity_transform(); }
+
+bool is_rigid(const Transform& t, double tol) {
+  if (std::abs(t[3]) > tol || std::abs(t[7]) > tol || std::abs(t[11]) > tol ||
+      std::abs(t[15] - 1) > tol) {
+    return false;
+  }
+  for (int a = 0; a < 3; ++a) {
+    for (int b = 0; b < 3; ++b) {
+      double d = 0;
+      for (int r = 0; r < 3; ++r) d += t[4 * a + r] * t[4 * b + r];
+      if (std::abs(d - (a == b ? 1.0 : 0.0)) > tol) return false;
+    }
+  }
+  return linear_determinant(t) > 0;
+}
+
+Transform multiply(const Transform& a, const Transform& b) {
+  Transform c{};
+  for (int col = 0; col < 4; ++col) {
+    for (int row = 0; row < 4; ++row) {
+      double s = 0;
+      for (int k = 0; k < 4; ++k) s += a[4 * k + row] * b[4 * col + k];
+      c[4 * col + row] = s;
+    }
+  }
+  return c;
+}
+
+Vec3d transform_point(const Transform& t, Vec3d p) {
+  return {t[0] * p.x + t[4] * p.y + t[8] * p.z + t[12],
+          t[1] * p.x + t[5] * p.y + t[9] * p.z + t[13],
+          t[2] * p.x + t[6] * p.y + t[10] * p.z + t[14]};
+}
+
+double linear_determinant(const Transform& t) {
+  const Mat3d m{t[0], t[4], t[8], t[1], t[5], t[9], t[2], t[6], t[10]};
+  return determinant(m);
+}
+
+Vec3d transform_normal(const Transform& t, Vec3d n) {
+  // Rows of the inverse transpose are the cofactors of the linear part; the determinant's scale
+  // drops out in the normalisation, its sign is kept so normals still point outwards.
+  const Vec3d c0{t[0], t[1], t[2]}, c1{t[4], t[5], t[6]}, c2{t[8], t[9], t[10]};
+  const Vec3d r0 = cross(c1, c2), r1 = cross(c2, c0), r2 = cross(c0, c1);
+  const double det = dot(c0, r0);
+  Vec3d out = (det < 0 ? -1.0 : 1.0) * (n.x * r0 + n.y * r1 + n.z * r2);
+  const double len = norm(out);
+  return len > 0 ? (1.0 / len) * out : out;
+}
+
+PlacedMesh::PlacedMesh(const Part& part) : mesh_(&part.mesh) {
+  if (is_identity(part.transform)) return;
+  storage_ = part.mesh;
+  for (Vec3f& p : storage_.positions) p = to_float(transform_point(part.transform, to_double(p)));
+  for (Vec3f& n : storage_.normals) n = to_float(transform_normal(part.transform, to_double(n)));
+  if (linear_determinant(part.transform) < 0) {
+    for (size_t i = 0; i + 2 < storage_.indices.size(); i += 3) {
+      std::swap(storage_.indices[i + 1], storage_.indices[i + 2]);
+    }
+  }
+  mesh_ = &storage_;
+}
+
+Vec3f face_normal(Vec3f a, Vec3f b, Vec3f c) {
+  const Vec3d pa = to_double(a);
+  const Vec3d n = cross(to_double(b) - pa, to_double(c) - pa);
+  const double len = norm(n);
+  return len > 0 ? to_float((1.0 / len) * n) : Vec3f{};
+}
+
+std::string format_float(float value) {
+  char text[32];
+  const auto result = std::to_chars(text, text + sizeof text, value);
+  return std::string(text, result.ptr);
+}
+
+double tidy(float value) {
+  if (!std::isfinite(value)) return 0;
+  const std::string text = format_float(value);
+  double d = 0;
+  std::from_chars(text.data(), text.data() + text.size(), d);
+  return d;
+}
+
+std::string one_line(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
+  }
+  const auto first = out.find_first_not_of(' ');
+  if (first == std::string::npos) return {};
+  const auto last = out.find_last_not_of(' ');
+  return out.substr(first, last - first + 1);
+}
+
+uint8_t to_unorm8(float value) {
+  if (!(value > 0)) return 0;
+  if (value >= 1) return 255;
+  return static_cast<uint8_t>(std::lround(value * 255.0f));
+}
+
+}  // namespace segmesh::mesh_io

@@ -1,0 +1,147 @@
+#include "segmesh_io/write_mesh.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstring>
+#include <memory>
+#include <set>
+#include <system_error>
+
+#include "segmesh_io/atomic_file.hpp"
+#include "segmesh_io/gltf_writer.hpp"
+#include "segmesh_io/mesh_io_detail.hpp"
+#include "segmesh_io/obj_writer.hpp"
+#include "segmesh_io/ply_writer.hpp"
+#include "segmesh_io/stl_writer.hpp"
+
+namespace segmesh {
+
+namespace fs = std::filesystem;
+using namespace mesh_io;
+
+namespace {
+
+// Flushes and closes the temporary file, checking that every byte was accepted, so that many
+// part files can be finished before any of them is renamed without keeping them all open.
+void finish(AtomicFile& file) {
+  std::ofstream& out = file.stream();
+  out.flush();
+  const bool ok = static_cast<bool>(out);
+  out.close();
+  if (!ok || out.fail()) {
+    throw Error(file.target().string() + ": writing failed (disk full or no permission?); nothing was written");
+  }
+}
+
+// The temporaries of one write, renamed together at the end.
+using Files = std::vector<std::unique_ptr<AtomicFile>>;
+
+void write_to(const PartList& parts, const fs::path& file, MeshFormat format, const std::string& name,
+              Files& files) {
+  require_parent_folder(file);  // names the file asked for, not the .mtl that OBJ opens first
+  const auto open = [&](const fs::path& target) -> AtomicFile& {
+    files.push_back(std::make_unique<AtomicFile>(target));
+    return *files.back();
+  };
+  switch (format) {
+    case MeshFormat::stl: {
+      AtomicFile& f = open(file);
+      write_stl(parts, f.stream(), name);
+      finish(f);
+      break;
+    }
+    case MeshFormat::ply: {
+      AtomicFile& f = open(file);
+      write_ply(parts, f.stream());
+      finish(f);
+      break;
+    }
+    case MeshFormat::obj: {
+      fs::path mtl_path = file;
+      mtl_path.replace_extension(".mtl");
+      if (mtl_path == file) {
+        throw Error(file.string() + ": an OBJ file needs a name other than its .mtl material file");
+      }
+      // The MTL is listed first so it is renamed before the OBJ that refers to it appears.
+      AtomicFile& mtl = open(mtl_path);
+      AtomicFile& obj = open(file);
+      write_obj(parts, obj.stream(), mtl.stream(), mtl_path.filename().string());
+      finish(mtl);
+      finish(obj);
+      break;
+    }
+    case MeshFormat::glb: {
+      AtomicFile& f = open(file);
+      write_glb(parts, f.stream());
+      finish(f);
+      break;
+    }
+  }
+}
+
+void commit_all(Files& files) {
+  for (auto& f : files) f->commit();
+}
+
+std::string file_stem_for(const std::string& part_name) {
+  std::string s;
+  for (unsigned char c : part_name) {
+    s.push_back(std::isalnum(c) || c == '-' || c == '_' || c == '.' ? static_cast<char>(c) : '_');
+  }
+  s.erase(0, s.find_first_not_of('.') == std::string::npos ? s.size() : s.find_first_not_of('.'));
+  if (s.size() > 100) s.resize(100);
+  while (!s.empty() && s.back() == '.') s.pop_back();
+  return s.empty() ? "part" : s;
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+}  // namespace
+
+void write_scene(const Scene& scene, const fs::path& file, MeshFormat format) {
+  const PartList parts = parts_to_write(scene);
+  const std::string name = parts.size() == 1 ? parts.front()->name : file.stem().string();
+  Files files;
+  write_to(parts, file, format, name, files);
+  commit_all(files);
+}
+
+std::vector<fs::path> write_parts(const Scene& scene, const fs::path& dir, MeshFormat format) {
+  const PartList parts = parts_to_write(scene);
+  std::error_code ec;
+  bool created = false;
+  if (fs::exists(dir, ec)) {
+    if (!fs::is_directory(dir, ec)) throw Error(dir.string() + ": exists and is not a folder");
+  } else {
+    require_parent_folder(dir);
+    if (!fs::create_directory(dir, ec) && ec) {
+      throw Error(dir.string() + ": cannot create the folder (" + ec.message() + ")");
+    }
+    created = true;
+  }
+
+  std::vector<fs::path> written;
+  try {
+    Files files;
+    std::set<std::string> used;
+    for (const Part* part : parts) {
+      const std::string base = file_stem_for(part->name);
+      std::string stem = base;
+      for (int n = 2; used.count(lower(stem)); ++n) stem = base + "_" + std::to_string(n);
+      used.insert(lower(stem));
+      const fs::path file = dir / (stem + "." + std::string(extension(format)));
+      write_to({part}, file, format, part->name, files);
+      written.push_back(file);
+    }
+    commit_all(files);
+  } catch (...) {
+    if (created) fs::remove(dir, ec);  // only removes it when empty
+    throw;
+  }
+  return written;
+}
+
+}  // namespace segmesh
