@@ -1,0 +1,33 @@
+// Pieces the subcommands share: reading the input with warnings on stderr, thread limits,
+// parsing "X,Y,Z" triples, and the JSON form of a grid.
+#pragma once
+
+#include <tbb/global_control.h>
+
+#include <array>
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "segmesh/grid.hpp"
+#include "segmesh/image.hpp"
+
+namespace segmesh::cli {
+
+// Reads a volume; the reader's warnings go to stderr as "segmesh: warning: ...".
+Image read_input(const std::filesystem::path& path);
+
+// Limits the worker threads for the lifetime of the returned object (0: all cores).
+std::unique_ptr<tbb::global_control> limit_threads(int threads);
+
+// Parses "a,b,c" into three numbers; throws segmesh::Error naming `option` otherwise.
+template <class T>
+std::array<T, 3> parse_triple(const std::string& text, const std::string& option);
+
+nlohmann::json grid_json(const Grid& grid);
+
+// Milliseconds since `start`.
+double ms_since(std::chrono::steady_clock::time_point start);
+
+}  // namespace segmesh::cli

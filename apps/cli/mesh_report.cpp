@@ -1,0 +1,95 @@
+#include "mesh_report.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <cstdio>
+
+#include "cli_common.hpp"
+
+namespace segmesh::cli {
+
+std::vector<MeshMeasures> measure_parts(const Scene& scene) {
+  std::vector<MeshMeasures> out(scene.parts.size());
+  tbb::parallel_for(size_t{0}, scene.parts.size(),
+                    [&](size_t p) { out[p] = measure_mesh(scene.parts[p].mesh); });
+  return out;
+}
+
+nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, const Timings& t,
+                           const Scene& scene, const std::vector<MeshMeasures>& measures,
+                           const std::vector<std::string>& outputs) {
+  nlohmann::json input = grid_json(image.grid());
+  input["path"] = image.path;
+  input["type"] = image.voxel_type;
+  nlohmann::json parts = nlohmann::json::array();
+  int64_t vertices = 0, triangles = 0, voxels = 0;
+  double area = 0, volume = 0, voxel_volume = 0;
+  bool all_closed = true;
+  for (size_t p = 0; p < scene.parts.size(); ++p) {
+    const Part& part = scene.parts[p];
+    const MeshMeasures& m = measures[p];
+    parts.push_back({{"name", part.name},
+                     {"label", part.label},
+                     {"component", part.component},
+                     {"role", role_name(part.role)},
+                     {"voxels", part.voxels},
+                     {"voxel_volume_mm3", part.voxel_volume_mm3},
+                     {"vertices", m.vertices},
+                     {"triangles", m.triangles},
+                     {"area_mm2", m.area_mm2},
+                     {"volume_mm3", m.volume_mm3},
+                     {"closed", m.closed()},
+                     {"boundary_edges", m.boundary_edges},
+                     {"nonmanifold_edges", m.nonmanifold_edges},
+                     {"winding_errors", m.winding_errors},
+                     {"shells", m.shells},
+                     {"euler", m.euler}});
+    vertices += m.vertices;
+    triangles += m.triangles;
+    voxels += part.voxels;
+    area += m.area_mm2;
+    volume += m.volume_mm3;
+    voxel_volume += part.voxel_volume_mm3;
+    all_closed = all_closed && m.closed();
+  }
+  return {{"input", input},
+          {"options", options},
+          {"timings_ms",
+           {{"read", t.read},
+            {"components", t.components},
+            {"extract", t.extract},
+            {"smooth", t.smooth},
+            {"write", t.write},
+            {"total", t.total}}},
+          {"outputs", outputs},
+          {"parts", parts},
+          {"totals",
+           {{"parts", scene.parts.size()},
+            {"vertices", vertices},
+            {"triangles", triangles},
+            {"voxels", voxels},
+            {"voxel_volume_mm3", voxel_volume},
+            {"area_mm2", area},
+            {"volume_mm3", volume},
+            {"all_closed", all_closed}}}};
+}
+
+std::string summary_table(const Scene& scene, const std::vector<MeshMeasures>& measures) {
+  std::string out;
+  char line[512];
+  std::snprintf(line, sizeof line, "%-28s %-8s %10s %11s %14s %14s %7s %6s\n", "part", "role",
+                "voxels", "triangles", "voxel_mm3", "mesh_mm3", "closed", "shells");
+  out += line;
+  for (size_t p = 0; p < scene.parts.size(); ++p) {
+    const Part& part = scene.parts[p];
+    const MeshMeasures& m = measures[p];
+    std::snprintf(line, sizeof line, "%-28s %-8s %10lld %11lld %14.1f %14.1f %7s %6lld\n",
+                  part.name.c_str(), std::string(role_name(part.role)).c_str(),
+                  (long long)part.voxels, (long long)m.triangles, part.voxel_volume_mm3,
+                  m.volume_mm3, m.closed() ? "yes" : "NO", (long long)m.shells);
+    out += line;
+  }
+  return out;
+}
+
+}  // namespace segmesh::cli

@@ -1,0 +1,221 @@
+#include "segmesh_io/nrrd_reader.hpp"
+
+#include <itkMetaDataObject.h>
+#include <itkNrrdImageIO.h>
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <fstream>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "segmesh_io/volume_checks.hpp"
+#include "segmesh_io/volume_data.hpp"
+#include "segmesh_io/volume_itk.hpp"
+
+namespace segmesh::volume_io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string trim(std::string_view text) {
+  const auto first = text.find_first_not_of(" \t\r\n");
+  if (first == std::string_view::npos) return {};
+  const auto last = text.find_last_not_of(" \t\r\n");
+  return std::string(text.substr(first, last - first + 1));
+}
+
+// Where a NRRD's data bytes are and how they are encoded (the fields ITK does not report).
+struct NrrdLayout {
+  std::string encoding = "raw";
+  std::string data_file;  // empty: the data follow the header in the same file
+  int64_t line_skip = 0;
+  int64_t byte_skip = 0;
+  uint64_t header_end = 0;  // first byte after the blank line ending an attached header
+};
+
+NrrdLayout scan_layout(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  NrrdLayout layout;
+  std::string line;
+  if (!std::getline(file, line) || line.rfind("NRRD", 0) != 0) {
+    throw file_error(path, "not a NRRD file (it does not start with \"NRRD\")");
+  }
+  uint64_t position = line.size() + 1;
+  bool blank_line = false;
+  while (std::getline(file, line)) {
+    position += line.size() + 1;
+    const std::string text = trim(line);
+    if (text.empty()) {
+      blank_line = true;
+      break;
+    }
+    if (text[0] == '#') continue;
+    const auto colon = text.find(':');
+    if (colon == std::string::npos || (colon + 1 < text.size() && text[colon + 1] == '=')) continue;
+    std::string field = text.substr(0, colon);
+    std::transform(field.begin(), field.end(), field.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    field.erase(std::remove(field.begin(), field.end(), ' '), field.end());
+    const std::string value = trim(std::string_view(text).substr(colon + 1));
+    try {
+      if (field == "encoding") layout.encoding = value;
+      if (field == "datafile") layout.data_file = value;
+      if (field == "lineskip") layout.line_skip = std::stoll(value);
+      if (field == "byteskip") layout.byte_skip = std::stoll(value);
+    } catch (const std::exception&) {
+      throw file_error(path, "the header field \"" + field + "\" has the invalid value \"" + value +
+                                 "\"; the file is corrupt");
+    }
+  }
+  layout.header_end = position;
+  if (layout.data_file.empty() && !blank_line) {
+    throw file_error(path, "the NRRD header names no data file and has no data after it");
+  }
+  return layout;
+}
+
+// Refuses, before anything is allocated, data that cannot hold `needed` bytes. Checks raw and
+// gzip data in this file or one detached file; other encodings and multi-file data are left to
+// ITK, which refuses short data too.
+void check_nrrd_data(const fs::path& path, const NrrdLayout& layout, uint64_t needed) {
+  const bool gzip = layout.encoding == "gzip" || layout.encoding == "gz";
+  if (!(gzip || layout.encoding == "raw")) return;
+  if (layout.data_file.rfind("LIST", 0) == 0 || layout.data_file.find('%') != std::string::npos)
+    return;
+
+  fs::path source = path;
+  uint64_t offset = layout.header_end;
+  if (!layout.data_file.empty()) {
+    source = fs::path(layout.data_file);
+    if (source.is_relative()) source = path.parent_path() / source;
+    offset = 0;
+    std::error_code ec;
+    if (!fs::is_regular_file(source, ec)) {
+      throw file_error(path, "its data file " + source.string() + " does not exist");
+    }
+  }
+  if (layout.line_skip > 0) {
+    std::ifstream file(source, std::ios::binary);
+    file.seekg(static_cast<std::streamoff>(offset));
+    std::string skipped;
+    for (int64_t i = 0; i < layout.line_skip && std::getline(file, skipped); ++i) {
+      offset += skipped.size() + 1;
+    }
+  }
+  const uint64_t size = size_of_file(source);
+  const uint64_t stored = size > offset ? size - offset : 0;
+  const uint64_t byte_skip = layout.byte_skip > 0 ? uint64_t(layout.byte_skip) : 0;
+  if (!gzip) {
+    // byte skip -1: the data are the file's last bytes.
+    const uint64_t available =
+        layout.byte_skip < 0 ? stored : (stored > byte_skip ? stored - byte_skip : 0);
+    check_data_fits(path, needed, available, false);
+    return;
+  }
+  check_data_fits(path, needed + byte_skip, stored, true);
+  DataStream stream(source, offset, true);
+  check_compressed_data(path, stream, byte_skip, needed);
+}
+
+std::optional<std::string> dictionary_value(const itk::MetaDataDictionary& dictionary,
+                                            const std::string& key) {
+  std::string value;
+  if (!dictionary.HasKey(key) || !itk::ExposeMetaData<std::string>(dictionary, key, value)) {
+    return std::nullopt;
+  }
+  return trim(value);
+}
+
+struct Segments {
+  std::vector<LabelInfo> labels;
+  std::set<int> layers;
+};
+
+Segments read_segments(const fs::path& path, const itk::MetaDataDictionary& dictionary,
+                       const ReadOptions& options) {
+  Segments segments;
+  for (int i = 0;; ++i) {
+    const std::string prefix = "Segment" + std::to_string(i) + "_";
+    const auto name = dictionary_value(dictionary, prefix + "Name");
+    const auto id = dictionary_value(dictionary, prefix + "ID");
+    const auto label_value = dictionary_value(dictionary, prefix + "LabelValue");
+    if (!name && !id && !label_value) break;
+
+    LabelInfo info;
+    info.name = name ? *name : (id ? *id : "");
+    info.label = i + 1;  // files older than Slicer 4.11 have one binary layer per segment
+    if (label_value) {
+      const char* end = label_value->data() + label_value->size();
+      if (auto [ptr, ec] = std::from_chars(label_value->data(), end, info.label);
+          ec != std::errc() || ptr != end) {
+        throw file_error(path, prefix + "LabelValue \"" + *label_value +
+                                   "\" is not an integer; the segmentation header is corrupt");
+      }
+    }
+    if (const auto layer = dictionary_value(dictionary, prefix + "Layer")) {
+      int value = 0;
+      std::from_chars(layer->data(), layer->data() + layer->size(), value);
+      segments.layers.insert(value);
+    }
+    if (const auto color = dictionary_value(dictionary, prefix + "Color")) {
+      std::istringstream text(*color);
+      Rgb rgb;
+      if (text >> rgb.r >> rgb.g >> rgb.b && rgb.r >= 0 && rgb.r <= 1 && rgb.g >= 0 && rgb.g <= 1 &&
+          rgb.b >= 0 && rgb.b <= 1) {
+        info.color = rgb;
+      } else {
+        warn(options, path,
+             prefix + "Color \"" + *color + "\" is not three numbers from 0 to 1; ignored");
+      }
+    }
+    segments.labels.push_back(std::move(info));
+  }
+  return segments;
+}
+
+Error layers_error(const fs::path& path, size_t layers) {
+  return file_error(path, "the segments overlap and are stored in " + std::to_string(layers) +
+                              " layers, which is not supported; in 3D Slicer export the "
+                              "segmentation as a label map (Segmentations module, Export to "
+                              "files, or Export to labelmap volume) and read that");
+}
+
+}  // namespace
+
+Image read_nrrd(const fs::path& path, const ReadOptions& options) {
+  const NrrdLayout layout = scan_layout(path);
+  auto io = itk::NrrdImageIO::New();
+  const ItkHeader header = read_itk_header(*io, path);
+  const Segments segments = read_segments(path, io->GetMetaDataDictionary(), options);
+
+  if (header.components > 1 || segments.layers.size() > 1) {
+    if (!segments.labels.empty()) {
+      throw layers_error(path, std::max<size_t>(header.components, segments.layers.size()));
+    }
+    throw file_error(path, "images with " + std::to_string(header.components) +
+                               " values per voxel (vector or multi-layer) are not supported; "
+                               "extract one component first");
+  }
+  if (!header.type) {
+    throw file_error(path,
+                     "the voxel type is not supported; save the volume with an integer or "
+                     "float type");
+  }
+  const std::array<int64_t, 3> dims = check_dims(path, header.dims);
+  check_voxel_limit(path, dims, options.max_voxels);
+  check_grid(path, header.grid, "space directions / spacings");
+  const uint64_t count = header.grid.voxel_count();
+  check_nrrd_data(path, layout, count * header.component_size);
+
+  VoxelSink sink(path, count, *header.type);
+  read_itk_voxels(*io, path, header, sink);
+  return Image{path.string(), std::string(voxel_type_name(*header.type)),
+               std::move(sink).finish(header.grid), segments.labels};
+}
+
+}  // namespace segmesh::volume_io

@@ -1,0 +1,95 @@
+#include "segmesh_io/read_volume.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <new>
+#include <string>
+
+#include "segmesh_io/dicom_series.hpp"
+#include "segmesh_io/metaimage_reader.hpp"
+#include "segmesh_io/mrc_reader.hpp"
+#include "segmesh_io/nifti_reader.hpp"
+#include "segmesh_io/nrrd_reader.hpp"
+#include "segmesh_io/volume_checks.hpp"
+
+namespace segmesh {
+
+namespace fs = std::filesystem;
+using volume_io::file_error;
+
+namespace {
+
+enum class Format { nifti, nrrd, metaimage, mrc, dicom, unknown };
+
+bool ends_with(const std::string& text, const std::string& suffix) {
+  return text.size() >= suffix.size() &&
+         text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+Format format_of(const fs::path& path) {
+  std::string name = path.filename().string();
+  std::transform(name.begin(), name.end(), name.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  for (const char* suffix : {".nii", ".nii.gz"}) {
+    if (ends_with(name, suffix)) return Format::nifti;
+  }
+  for (const char* suffix : {".nrrd", ".nhdr"}) {  // .seg.nrrd included
+    if (ends_with(name, suffix)) return Format::nrrd;
+  }
+  for (const char* suffix : {".mha", ".mhd"}) {
+    if (ends_with(name, suffix)) return Format::metaimage;
+  }
+  for (const char* suffix : {".mrc", ".map", ".rec"}) {
+    if (ends_with(name, suffix)) return Format::mrc;
+  }
+  if (ends_with(name, ".dcm")) {
+    throw file_error(path, "is a single DICOM file; give the folder that holds the whole series");
+  }
+  return Format::unknown;
+}
+
+}  // namespace
+
+Image read_volume(const fs::path& path, const ReadOptions& options) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (!fs::exists(status)) throw file_error(path, "no such file");
+  const Format format = fs::is_directory(status) ? Format::dicom : format_of(path);
+  if (format == Format::unknown) {
+    throw file_error(path,
+                     "unknown volume format; expected .nii, .nii.gz, .nrrd, .nhdr, "
+                     ".seg.nrrd, .mha, .mhd, .mrc, .map, .rec or a DICOM folder");
+  }
+  if (format != Format::dicom) {
+    if (!std::ifstream(path, std::ios::binary)) {
+      throw file_error(path, std::string("cannot open the file (") + std::strerror(errno) + ")");
+    }
+    if (volume_io::size_of_file(path) == 0) throw file_error(path, "file is empty");
+  }
+
+  try {
+    switch (format) {
+      case Format::nifti:
+        return volume_io::read_nifti(path, options);
+      case Format::nrrd:
+        return volume_io::read_nrrd(path, options);
+      case Format::metaimage:
+        return volume_io::read_metaimage(path, options);
+      case Format::mrc:
+        return volume_io::read_mrc(path, options);
+      case Format::dicom:
+        return volume_io::read_dicom_series(path, options);
+      case Format::unknown:
+        break;
+    }
+  } catch (const std::bad_alloc&) {
+    throw file_error(path,
+                     "not enough memory to hold the volume; lower the resolution or crop it first");
+  }
+  throw file_error(path, "unknown volume format");
+}
+
+}  // namespace segmesh

@@ -1,0 +1,47 @@
+// read_volume: load a segmentation (label map) or a grey-value volume from any supported format.
+//
+// Formats, chosen by the file name's extension (a folder is a DICOM series):
+//   .nii .nii.gz             NIfTI-1 and NIfTI-2 (either byte order; gzip detected by content)
+//   .nrrd .nhdr .seg.nrrd    NRRD, detached data, 3D Slicer segmentations (segment names, colours
+//                            and label values become Image::labels)
+//   .mha .mhd                MetaImage
+//   .mrc .map .rec           MRC / CCP4 maps (axis order mapc/mapr/maps honoured)
+//   <folder>                 one DICOM series, slices ordered by their position in space
+//
+// Guarantees:
+// - Geometry is in ITK's LPS convention, as ITK reports it for the file (NIfTI-1, NRRD,
+//   MetaImage, DICOM), so meshes overlay the image in 3D Slicer. Voxels are x fastest.
+//   NIfTI-2, which ITK 5.2 cannot read, uses the sform (else qform, else pixdim) converted
+//   from RAS to LPS. MRC maps have no orientation: identity direction, and every length in the
+//   file's own unit, which for EM maps is the ångström (not mm).
+// - Integer voxel types become a LabelVolume (int32); float types a ScalarVolume. A rescale
+//   (NIfTI scl_slope/scl_inter, DICOM rescale slope/intercept) keeps integers as long as every
+//   rescaled value is a whole number. Image::voxel_type names the type stored in the file.
+// - Before allocating anything, the header is checked: 3-D (a 4-D/5-D file only if its extra
+//   axes have size 1), positive finite spacing, at most max_voxels voxels, and a file that holds
+//   all the data it claims (compressed streams are inflated once to count, and must end
+//   properly). ITK alone would accept truncated or inconsistent files.
+//
+// Errors: segmesh::Error with one line naming the file first, saying what is wrong and what to
+// do ("seg.nii.gz: file is truncated (expected 1048576 bytes of image data, found 1000000)").
+// No ITK exception escapes.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "segmesh/image.hpp"
+
+namespace segmesh {
+
+struct ReadOptions {
+  uint64_t max_voxels = 2'000'000'000;           // refuse larger volumes before allocating
+  std::function<void(const std::string&)> warn;  // receives warnings (may be empty)
+};
+
+// Reads the volume at `path` (a file, or a folder holding a DICOM series).
+Image read_volume(const std::filesystem::path& path, const ReadOptions& options = {});
+
+}  // namespace segmesh

@@ -1,0 +1,22 @@
+// Runs the segmesh executable from a test and captures its exit code, stdout and stderr.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace segmesh::test {
+
+struct CliResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+// Runs `segmesh <args>` (args are passed to /bin/sh, so quote paths with spaces).
+CliResult run_segmesh(const std::string& args);
+
+// True when `dir` holds no regular file other than those named in `keep`.
+bool folder_holds_only(const std::filesystem::path& dir, const std::vector<std::string>& keep);
+
+}  // namespace segmesh::test

@@ -1,0 +1,241 @@
+// The segmesh command line end to end: the demo path (phantom -> mesh -> files and report), info,
+// and every kind of bad input giving exit code 2, a one-line message and no output file.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "cli/cli_run.hpp"
+#include "segmesh/volume.hpp"
+#include "segmesh_io/read_mesh.hpp"
+#include "segmesh/mesh_measures.hpp"
+#include "segmesh_io/write_volume.hpp"
+#include "support/test_support.hpp"
+
+namespace segmesh {
+namespace {
+
+namespace fs = std::filesystem;
+using test::run_segmesh;
+
+std::string q(const fs::path& p) {
+  std::string quoted = p.string();  // built in place: GCC 12 warns falsely on "'" + s + "'"
+  quoted.insert(quoted.begin(), '\'');
+  quoted.push_back('\'');
+  return quoted;
+}
+
+// A small phantom shared by the tests of this file (the anatomy at 0.394 x 0.394 x 4 mm).
+const fs::path& small_phantom() {
+  static const fs::path path = [] {
+    const fs::path dir = test::scratch_dir("cli_phantom");
+    const fs::path p = dir / "phantom.nii.gz";
+    const auto r = run_segmesh("phantom -o " + q(p) + " --size 256,256,102 --spacing 0.394,0.394,4");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return p;
+  }();
+  return path;
+}
+
+TEST(Cli, MeshWritesEveryFormatAndAReportOfClosedParts) {
+  const fs::path dir = test::scratch_dir("cli_mesh");
+  const auto r = run_segmesh("mesh " + q(small_phantom()) + " -o " + q(dir / "scene.glb") +
+                             " --report " + q(dir / "report.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("label1_1"), std::string::npos) << r.out;
+  ASSERT_TRUE(fs::exists(dir / "scene.glb"));
+
+  std::ifstream in(dir / "report.json");
+  const auto report = nlohmann::json::parse(in);
+  for (const char* key : {"input", "options", "timings_ms", "parts", "totals"}) {
+    EXPECT_TRUE(report.contains(key)) << key;
+  }
+  for (const char* key : {"read", "components", "extract", "smooth", "write", "total"}) {
+    EXPECT_TRUE(report["timings_ms"].contains(key)) << key;
+  }
+  EXPECT_EQ(report["input"]["dims"], nlohmann::json({256, 256, 102}));
+  EXPECT_EQ(report["parts"].size(), 10u);  // 3 bone parts, plate and 6 screws
+  for (const auto& part : report["parts"]) {
+    EXPECT_TRUE(part["closed"].get<bool>()) << part["name"];
+    EXPECT_EQ(part["boundary_edges"], 0);
+    EXPECT_EQ(part["nonmanifold_edges"], 0);
+    EXPECT_EQ(part["shells"], 1) << part["name"];
+    const double v = part["volume_mm3"], vv = part["voxel_volume_mm3"];
+    EXPECT_NEAR(v, vv, 0.1 * vv) << part["name"];
+    for (const char* key : {"name", "label", "component", "role", "voxels", "vertices",
+                            "triangles", "area_mm2"}) {
+      EXPECT_TRUE(part.contains(key)) << key;
+    }
+  }
+  EXPECT_EQ(report["parts"][0]["role"], "bone");
+  EXPECT_EQ(report["parts"][3]["role"], "implant");
+  EXPECT_TRUE(report["totals"]["all_closed"].get<bool>());
+
+  // The same scene in the other single-file formats reads back with the same triangle count.
+  const int64_t triangles = report["totals"]["triangles"];
+  for (const char* name : {"scene.ply", "scene.stl", "scene.obj"}) {
+    const auto rr = run_segmesh("mesh " + q(small_phantom()) + " -o " + q(dir / name) + " --quiet");
+    ASSERT_EQ(rr.exit_code, 0) << rr.err;
+    EXPECT_TRUE(rr.out.empty()) << "--quiet printed: " << rr.out;
+    const Scene back = read_mesh(dir / name);
+    int64_t n = 0;
+    for (const Part& p : back.parts) n += static_cast<int64_t>(p.mesh.triangle_count());
+    EXPECT_EQ(n, triangles) << name;
+  }
+  EXPECT_TRUE(fs::exists(dir / "scene.mtl"));
+  EXPECT_TRUE(test::folder_holds_only(dir, {"scene.glb", "report.json", "scene.ply", "scene.stl",
+                                            "scene.obj", "scene.mtl"}));
+}
+
+TEST(Cli, FolderOutputWritesOneClosedFilePerPart) {
+  const fs::path dir = test::scratch_dir("cli_parts");
+  const auto r = run_segmesh("mesh " + q(small_phantom()) + " -o " + q(dir / "parts") +
+                             "/ --format stl --labels 2 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(dir / "parts")) {
+    EXPECT_EQ(entry.path().extension(), ".stl");
+    const Scene s = read_mesh(entry.path());
+    ASSERT_EQ(s.parts.size(), 1u);
+    EXPECT_TRUE(measure_mesh(s.parts[0].mesh).closed()) << entry.path();
+    ++files;
+  }
+  EXPECT_EQ(files, 7);  // the plate and six screws
+}
+
+TEST(Cli, InfoReportsLabelsComponentsAndGrid) {
+  const auto r = run_segmesh("info " + q(small_phantom()) + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["kind"], "labels");
+  EXPECT_EQ(j["dims"], nlohmann::json({256, 256, 102}));
+  EXPECT_NEAR(j["spacing"][2].get<double>(), 4.0, 1e-6);
+  ASSERT_EQ(j["labels"].size(), 2u);
+  EXPECT_EQ(j["labels"][0]["label"], 1);
+  EXPECT_EQ(j["labels"][0]["components"], 3);
+  EXPECT_EQ(j["labels"][1]["components"], 7);
+  const double voxel = 0.394 * 0.394 * 4;
+  EXPECT_NEAR(j["labels"][1]["volume_mm3"].get<double>(),
+              j["labels"][1]["voxels"].get<double>() * voxel, 1e-3);
+  const auto text = run_segmesh("info " + q(small_phantom()));
+  EXPECT_EQ(text.exit_code, 0);
+  EXPECT_NE(text.out.find("256 x 256 x 102"), std::string::npos) << text.out;
+}
+
+// A small valid label map written as uncompressed NIfTI, for corrupting byte by byte.
+fs::path write_labels(const fs::path& dir, const std::string& name, bool foreground = true) {
+  LabelVolume v;
+  v.grid.dims = {8, 8, 8};
+  v.voxels.assign(512, 0);
+  if (foreground) v.voxels[v.grid.index(3, 3, 3)] = 1;
+  write_volume(v, dir / name);
+  return dir / name;
+}
+
+void patch(const fs::path& file, size_t offset, const void* bytes, size_t n) {
+  std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+  f.seekp(static_cast<std::streamoff>(offset));
+  f.write(static_cast<const char*>(bytes), static_cast<std::streamsize>(n));
+}
+
+struct BadInput {
+  std::string what;
+  std::string args;           // after "mesh"
+  std::string message;        // a fragment the one-line error must contain
+};
+
+TEST(Cli, BadInputsGiveExitCode2AMessageAndNoOutput) {
+  const fs::path dir = test::scratch_dir("cli_bad");
+  const fs::path good = write_labels(dir, "good.nii");
+  const fs::path empty = write_labels(dir, "empty.nii", false);
+
+  const fs::path zero_spacing = write_labels(dir, "zero_spacing.nii");
+  const float zero = 0;
+  patch(zero_spacing, 80, &zero, 4);  // pixdim[1]
+  const fs::path negative_spacing = write_labels(dir, "negative_spacing.nii");
+  const float minus = -1;
+  patch(negative_spacing, 84, &minus, 4);  // pixdim[2]
+  const fs::path two_d = write_labels(dir, "two_d.nii");
+  const int16_t two = 2;
+  patch(two_d, 40, &two, 2);  // dim[0]
+  const fs::path four_d = write_labels(dir, "four_d.nii");
+  const int16_t four = 4, frames = 3;
+  patch(four_d, 40, &four, 2);
+  patch(four_d, 48, &frames, 2);  // dim[4]
+  const fs::path truncated = write_labels(dir, "truncated.nii");
+  fs::resize_file(truncated, fs::file_size(truncated) - 100);
+  const fs::path unknown = dir / "volume.xyz";
+  std::ofstream(unknown) << "not a volume";
+  const fs::path garbage = dir / "garbage.nii.gz";
+  std::ofstream(garbage) << "this is not gzip data at all";
+
+  const std::string out = q(dir / "out.glb");
+  const std::vector<BadInput> cases = {
+      {"missing file", q(dir / "missing.nii.gz") + " -o " + out, "missing.nii.gz"},
+      {"unknown format", q(unknown) + " -o " + out, "volume.xyz"},
+      {"corrupt file", q(garbage) + " -o " + out, "garbage.nii.gz"},
+      {"truncated file", q(truncated) + " -o " + out, "truncated"},
+      {"2-D image", q(two_d) + " -o " + out, "2-D"},
+      {"4-D image", q(four_d) + " -o " + out, "4-D"},
+      {"zero spacing", q(zero_spacing) + " -o " + out, "spacing"},
+      {"negative spacing", q(negative_spacing) + " -o " + out, "spacing"},
+      {"label not in volume", q(good) + " -o " + out + " --labels 9", "label 9 is not in the volume"},
+      {"no foreground", q(empty) + " -o " + out, "no foreground"},
+      {"output folder missing", q(good) + " -o " + q(dir / "nowhere" / "out.glb"), "does not exist"},
+      {"unknown output format", q(good) + " -o " + q(dir / "out.xyz"), "unknown mesh format"},
+      {"bad connectivity", q(good) + " -o " + out + " --connectivity 7", "connectivity"},
+      {"bad normals", q(good) + " -o " + out + " --normals magic", "--normals"},
+      {"output is the input", q(good) + " -o " + q(good), ""},
+  };
+  for (const BadInput& c : cases) {
+    const auto r = run_segmesh("mesh " + c.args);
+    EXPECT_EQ(r.exit_code, 2) << c.what << ": " << r.err;
+    EXPECT_EQ(r.err.rfind("segmesh: error: ", 0), 0u) << c.what << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.what << ": " << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.what << ": " << r.err;
+    EXPECT_FALSE(fs::exists(dir / "out.glb")) << c.what;
+  }
+  EXPECT_FALSE(fs::exists(dir / "nowhere"));
+  // Nothing but the inputs is left in the folder: no partial outputs, no temporary files.
+  EXPECT_TRUE(test::folder_holds_only(
+      dir, {"good.nii", "empty.nii", "zero_spacing.nii", "negative_spacing.nii", "two_d.nii",
+            "four_d.nii", "truncated.nii", "volume.xyz", "garbage.nii.gz"}));
+}
+
+TEST(Cli, FloatVolumeNeedsIso) {
+  SEGMESH_DATA_FILE(map, "mrc/EMD-3197.map");
+  const fs::path dir = test::scratch_dir("cli_float");
+  auto r = run_segmesh("mesh " + q(map) + " -o " + q(dir / "map.ply"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--iso"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "map.ply"));
+  r = run_segmesh("info " + q(map) + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["kind"], "grey");
+  const double mid = 0.5 * (j["value_range"]["min"].get<double>() + j["value_range"]["max"].get<double>());
+  r = run_segmesh("mesh " + q(map) + " -o " + q(dir / "map.ply") + " --iso " + std::to_string(mid) +
+                  " --quiet");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "map.ply"));
+}
+
+TEST(Cli, UsageErrorsAndHelp) {
+  auto r = run_segmesh("");
+  EXPECT_EQ(r.exit_code, 2);
+  r = run_segmesh("mesh");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("segmesh: error:"), std::string::npos);
+  r = run_segmesh("--help");
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* cmd : {"info", "mesh", "phantom"}) EXPECT_NE(r.out.find(cmd), std::string::npos);
+  r = run_segmesh("phantom -o /nonexistent-folder/p.nii.gz");
+  EXPECT_EQ(r.exit_code, 2);
+  r = run_segmesh("phantom -o x.nii.gz --size 5,5");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--size"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace segmesh
