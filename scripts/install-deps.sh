@@ -11,10 +11,8 @@ packages=(
   cmake ninja-build g++ make pkg-config git     # build
   libinsighttoolkit5-dev zlib1g-dev             # volume formats (NIfTI, NRRD, MHA, DICOM)
   libtbb-dev                                    # threads (oneTBB)
-  libeigen3-dev                                 # small linear algebra
-  libcli11-dev libfmt-dev nlohmann-json3-dev    # command line, formatting, JSON reports
-  libtinygltf-dev libmeshoptimizer-dev libstb-dev  # glTF, mesh optimisation, PNG
-  googletest libgtest-dev libbenchmark-dev      # tests and benchmarks
+  libcli11-dev nlohmann-json3-dev               # command line, JSON (reports, glTF)
+  googletest libgtest-dev                       # tests
 )
 if [[ "${1:-}" == "--with-peers" ]]; then
   packages+=(python3-vtk9 python3-skimage python3-numpy python3-nibabel python3-scipy)
