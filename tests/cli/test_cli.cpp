@@ -26,21 +26,19 @@ std::string q(const fs::path& p) {
   return quoted;
 }
 
-// A small phantom shared by the tests of this file (the anatomy at 0.394 x 0.394 x 4 mm).
-const fs::path& small_phantom() {
-  static const fs::path path = [] {
-    const fs::path dir = test::scratch_dir("cli_phantom");
-    const fs::path p = dir / "phantom.nii.gz";
-    const auto r = run_segmesh("phantom -o " + q(p) + " --size 256,256,102 --spacing 0.394,0.394,4");
-    EXPECT_EQ(r.exit_code, 0) << r.err;
-    return p;
-  }();
-  return path;
+// A small phantom (the anatomy at 0.394 x 0.394 x 4 mm), written into each test's own folder:
+// ctest runs the tests of this file as parallel processes.
+fs::path small_phantom(const std::string& test_name) {
+  const fs::path p = test::scratch_dir(test_name + "_phantom") / "phantom.nii.gz";
+  const auto r = run_segmesh("phantom -o " + q(p) + " --size 256,256,102 --spacing 0.394,0.394,4");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return p;
 }
 
 TEST(Cli, MeshWritesEveryFormatAndAReportOfClosedParts) {
   const fs::path dir = test::scratch_dir("cli_mesh");
-  const auto r = run_segmesh("mesh " + q(small_phantom()) + " -o " + q(dir / "scene.glb") +
+  const fs::path phantom = small_phantom("cli_mesh");
+  const auto r = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "scene.glb") +
                              " --report " + q(dir / "report.json"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("label1_1"), std::string::npos) << r.out;
@@ -75,7 +73,7 @@ TEST(Cli, MeshWritesEveryFormatAndAReportOfClosedParts) {
   // The same scene in the other single-file formats reads back with the same triangle count.
   const int64_t triangles = report["totals"]["triangles"];
   for (const char* name : {"scene.ply", "scene.stl", "scene.obj"}) {
-    const auto rr = run_segmesh("mesh " + q(small_phantom()) + " -o " + q(dir / name) + " --quiet");
+    const auto rr = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / name) + " --quiet");
     ASSERT_EQ(rr.exit_code, 0) << rr.err;
     EXPECT_TRUE(rr.out.empty()) << "--quiet printed: " << rr.out;
     const Scene back = read_mesh(dir / name);
@@ -90,7 +88,8 @@ TEST(Cli, MeshWritesEveryFormatAndAReportOfClosedParts) {
 
 TEST(Cli, FolderOutputWritesOneClosedFilePerPart) {
   const fs::path dir = test::scratch_dir("cli_parts");
-  const auto r = run_segmesh("mesh " + q(small_phantom()) + " -o " + q(dir / "parts") +
+  const fs::path phantom = small_phantom("cli_parts");
+  const auto r = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "parts") +
                              "/ --format stl --labels 2 --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   int files = 0;
@@ -105,7 +104,8 @@ TEST(Cli, FolderOutputWritesOneClosedFilePerPart) {
 }
 
 TEST(Cli, InfoReportsLabelsComponentsAndGrid) {
-  const auto r = run_segmesh("info " + q(small_phantom()) + " --json");
+  const fs::path phantom = small_phantom("cli_info");
+  const auto r = run_segmesh("info " + q(phantom) + " --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["kind"], "labels");
@@ -118,7 +118,7 @@ TEST(Cli, InfoReportsLabelsComponentsAndGrid) {
   const double voxel = 0.394 * 0.394 * 4;
   EXPECT_NEAR(j["labels"][1]["volume_mm3"].get<double>(),
               j["labels"][1]["voxels"].get<double>() * voxel, 1e-3);
-  const auto text = run_segmesh("info " + q(small_phantom()));
+  const auto text = run_segmesh("info " + q(phantom));
   EXPECT_EQ(text.exit_code, 0);
   EXPECT_NE(text.out.find("256 x 256 x 102"), std::string::npos) << text.out;
 }
