@@ -60,7 +60,7 @@ void write_obj(const PartList& parts, std::ostream& obj, std::ostream& mtl,
 
   BlockWriter writer(obj);
   std::string& buf = writer.buffer();
-  buf += "# segmesh: world millimetres, LPS (x = left, y = posterior, z = superior)\n";
+  buf += "# SPACE=LPS\n# segmesh: world millimetres, LPS (x = left, y = posterior, z = superior)\n";
   buf += "mtllib " + mtl_file_name + "\n";
   uint64_t first = 1, first_normal = 1;  // normals are numbered apart: not every part has them
   for (size_t i = 0; i < parts.size(); ++i) {

@@ -61,7 +61,7 @@ Part make_part(std::string name) {
 std::string header_name(std::string_view header, const std::filesystem::path& file) {
   std::string text(header.substr(0, std::min<size_t>(header.find('\0'), header.size())));
   text = one_line(text);
-  const std::string_view prefix = "segmesh ", suffix = " LPS mm";
+  const std::string_view prefix = "segmesh ", suffix = " SPACE=LPS mm";
   if (text.size() > prefix.size() + suffix.size() && text.starts_with(prefix) &&
       text.ends_with(suffix)) {
     return text.substr(prefix.size(), text.size() - prefix.size() - suffix.size());

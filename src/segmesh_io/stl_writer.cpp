@@ -17,8 +17,12 @@ void write_stl(const PartList& parts, std::ostream& out, std::string_view name) 
 
   BlockWriter writer(out);
   std::string& buf = writer.buffer();
-  std::string header = "segmesh " + one_line(name) + " LPS mm";
-  if (header.size() > 80) header = "segmesh " + one_line(name).substr(0, 80 - 15) + " LPS mm";
+  // 3D Slicer reads "SPACE=LPS" in an STL header as the coordinate system of the file.
+  const std::string_view suffix = " SPACE=LPS mm";
+  std::string header = "segmesh " + one_line(name) + std::string(suffix);
+  if (header.size() > 80) {
+    header = "segmesh " + one_line(name).substr(0, 80 - 8 - suffix.size()) + std::string(suffix);
+  }
   header.resize(80, ' ');
   buf += header;
   append_le<uint32_t>(buf, static_cast<uint32_t>(triangles));

@@ -63,7 +63,7 @@ TEST(PlyTest, HeaderDeclaresLayoutUnitsAndParts) {
   const std::string h = header_of(bytes);
   EXPECT_TRUE(h.starts_with("ply\nformat binary_little_endian 1.0\n")) << h;
   for (const char* line :
-       {"comment space LPS\n", "comment units mm\n", "element vertex 12\n", "property float x\n",
+       {"comment SPACE=LPS\n", "comment units mm\n", "element vertex 12\n", "property float x\n",
         "property float nx\n", "property uchar red\n", "property uchar alpha\n", "element face 16\n",
         "property list uchar uint vertex_indices\n", " name=tibia\n", " name=plate\n", " role=implant "}) {
     EXPECT_NE(h.find(line), std::string::npos) << line << " missing in\n" << h;

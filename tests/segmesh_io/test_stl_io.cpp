@@ -46,7 +46,7 @@ TEST(StlTest, BinaryRoundTripWeldsIntoTheClosedCube) {
   const Scene back = read_mesh(dir / "cube.stl");
   ASSERT_EQ(back.parts.size(), 1u);
   const TriMesh& m = back.parts[0].mesh;
-  EXPECT_EQ(back.parts[0].name, "cube");  // from the "segmesh <name> LPS mm" header
+  EXPECT_EQ(back.parts[0].name, "cube");  // from the "segmesh <name> SPACE=LPS mm" header
   EXPECT_EQ(m.vertex_count(), 8u);        // welded: one vertex per corner
   EXPECT_EQ(m.triangle_count(), 12u);
   EXPECT_TRUE(m.normals.empty());
@@ -61,7 +61,7 @@ TEST(StlTest, HeaderCountAndFaceNormals) {
   write_scene(two_part_scene(), dir / "scene.stl", MeshFormat::stl);
   const std::string b = read_bytes(dir / "scene.stl");
   ASSERT_EQ(b.size(), 84u + 50u * 16u);
-  EXPECT_EQ(b.substr(0, 21), "segmesh scene LPS mm ");
+  EXPECT_EQ(b.substr(0, 27), "segmesh scene SPACE=LPS mm ");
   EXPECT_EQ(u32_at(b, 80), 16u);  // both parts' triangles in one file
   const Scene scene = two_part_scene();
   for (size_t t = 0; t < 16; ++t) {
