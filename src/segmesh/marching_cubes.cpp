@@ -9,6 +9,7 @@
 #include <limits>
 #include <vector>
 
+#include "segmesh/edge_intersection.hpp"
 #include "segmesh/error.hpp"
 #include "segmesh/marching_cubes_table.hpp"
 
@@ -54,9 +55,6 @@ class Extractor {
  private:
   bool inside(int64_t i, int64_t j, int64_t k) const {
     return static_cast<double>(f_.voxels[f_.grid.index(i, j, k)]) >= o_.iso;
-  }
-  double value(int64_t i, int64_t j, int64_t k) const {
-    return static_cast<double>(f_.voxels[f_.grid.index(i, j, k)]);
   }
 
   int cell_case(int64_t i, int64_t j, int64_t k) const {
@@ -106,12 +104,6 @@ class Extractor {
     }
   }
 
-  double edge_fraction(double v0, double v1) const {
-    const double t = (o_.iso - v0) / (v1 - v0);
-    if (!std::isfinite(t)) return 0.5;
-    return std::clamp(t, kMcMinEdgeFraction, 1.0 - kMcMinEdgeFraction);
-  }
-
   // Assigns ids to the cut edges of plane k; with `emit`, also computes their vertices.
   void number_plane(int64_t k, bool emit, PlaneIds& ids, TriMesh& mesh) const {
     uint32_t id = static_cast<uint32_t>(vertex_first_[k]);
@@ -124,13 +116,9 @@ class Extractor {
   }
 
   void emit_vertex(int axis, int64_t i, int64_t j, int64_t k, uint32_t id, TriMesh& mesh) const {
-    const int64_t i1 = i + (axis == 0), j1 = j + (axis == 1), k1 = k + (axis == 2);
-    const double t = edge_fraction(value(i, j, k), value(i1, j1, k1));
-    const Vec3d p{i + t * (i1 - i), j + t * (j1 - j), k + t * (k1 - k)};
-    mesh.positions[id] = to_float(f_.grid.to_world(p));
-    const Vec3d g0 = gradient(f_, i, j, k, o_.normals);
-    const Vec3d g1 = gradient(f_, i1, j1, k1, o_.normals);
-    const Vec3d g = f_.grid.gradient_to_world((1 - t) * g0 + t * g1);
+    const EdgeCrossing c = edge_crossing(f_, i, j, k, axis, o_.iso, o_.normals);
+    mesh.positions[id] = to_float(f_.grid.to_world(c.index_point));
+    const Vec3d g = f_.grid.gradient_to_world(c.index_gradient);
     const double len = norm(g);
     // Values grow towards the inside, so the outward normal is the negative gradient. A zero
     // gradient (possible in one-voxel-thin binary structures) is repaired from the faces later.

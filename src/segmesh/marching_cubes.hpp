@@ -9,7 +9,7 @@
 // [in]  options  iso value, the connectivity the ambiguous faces follow (6, 18, 26), the
 //                gradient operator for normals.
 // [out] a TriMesh in world millimetres: one shared vertex per cut edge, linearly interpolated
-//       (kept at least kMcMinEdgeFraction away from the edge's ends, so a corner value equal to iso
+//       (kept at least kMinEdgeFraction away from the edge's ends, so a corner value equal to iso
 //       never collapses vertices into zero-area triangles), unit normals from the field gradient
 //       pointing outwards (towards lower values), triangles counter-clockwise seen from outside —
 //       also for mirrored grids (negative direction determinant), whose winding is flipped.
@@ -32,9 +32,6 @@ struct McOptions {
   int connectivity = 26;                         // 6, 18 or 26: see marching_cubes_table.hpp
   NormalMethod normals = NormalMethod::central;  // central differences or Sobel
 };
-
-// A vertex is never placed closer than this fraction of the edge length to the edge's ends.
-inline constexpr double kMcMinEdgeFraction = 0.01;
 
 template <class T>
 TriMesh marching_cubes(const Volume<T>& field, const McOptions& options,

@@ -17,6 +17,8 @@ namespace {
 
 using Cycle = std::vector<int>;  // cut edges in order, counter-clockwise seen from outside
 
+McCaseTopology case_topology(int cs, int connectivity);
+
 int edge_between(int c0, int c1) {
   for (int e = 0; e < 12; ++e) {
     const auto& ec = kMcEdgeCorner[e];
@@ -71,18 +73,7 @@ const std::array<Face, 6>& faces() {
   return f;
 }
 
-// True when edges e0 and e1 both lie on one face of the cell.
-bool share_face(int e0, int e1) {
-  for (const Face& f : faces()) {
-    int found = 0;
-    for (int q = 0; q < 4; ++q) {
-      const int e = edge_between(f.corners[q], f.corners[(q + 1) % 4]);
-      found += (e == e0) + (e == e1);
-    }
-    if (found == 2) return true;
-  }
-  return false;
-}
+bool share_face(int e0, int e1) { return mc_shared_face(e0, e1) >= 0; }
 
 double radii_ratio(Vec3d p0, Vec3d p1, Vec3d p2) {
   const double a = norm(p1 - p0), b = norm(p2 - p1), c = norm(p0 - p2);
@@ -223,13 +214,12 @@ void check_case(int cs, const std::map<std::pair<int, int>, int>& segments,
   }
 }
 
-std::vector<std::array<uint8_t, 3>> build_case(int cs, int connectivity) {
+McCaseTopology case_topology(int cs, int connectivity) {
   const bool join_inside_on_faces = connectivity != 6;
   auto inside = [cs](int c) { return ((cs >> c) & 1) != 0; };
 
   // 1. Directed segments on the faces: from -> to, with the inside on the left of the direction
   //    as seen from outside the cell (cross(to - from, face normal) points into the inside).
-  std::map<std::pair<int, int>, int> segments;  // (from edge, to edge) -> face
   std::array<int, 12> next;
   next.fill(-1);
   for (int fi = 0; fi < 6; ++fi) {
@@ -278,7 +268,6 @@ std::vector<std::array<uint8_t, 3>> build_case(int cs, int connectivity) {
       if ((side > 0) != reference_inside) std::swap(e0, e1);
       if (next[e0] != -1) throw std::logic_error("marching cubes table: vertex with two exits");
       next[e0] = e1;
-      segments[{e0, e1}] = fi;
     }
   }
 
@@ -296,16 +285,28 @@ std::vector<std::array<uint8_t, 3>> build_case(int cs, int connectivity) {
     cycles.push_back(std::move(cycle));
   }
 
-  // 3. Triangles: a disk per cycle, or the tube that makes body-diagonal corners 26-connected.
-  std::vector<std::array<uint8_t, 3>> tris;
   const bool body_diagonal_pair =
       std::popcount(static_cast<unsigned>(cs)) == 2 && inside(std::countr_zero(unsigned(cs))) &&
       inside(std::countr_zero(unsigned(cs)) ^ 7);
-  if (connectivity == 26 && body_diagonal_pair) {
-    if (cycles.size() != 2) throw std::logic_error("marching cubes table: tube needs two cycles");
-    tris = tube_between(cycles[0], cycles[1]);
+  McCaseTopology topology{std::move(cycles), connectivity == 26 && body_diagonal_pair};
+  if (topology.tube && topology.cycles.size() != 2) {
+    throw std::logic_error("marching cubes table: tube needs two cycles");
+  }
+  return topology;
+}
+
+std::vector<std::array<uint8_t, 3>> build_case(int cs, int connectivity) {
+  const McCaseTopology topology = case_topology(cs, connectivity);
+  std::map<std::pair<int, int>, int> segments;  // (from edge, to edge) -> 1
+  for (const Cycle& cycle : topology.cycles) {
+    for (size_t i = 0; i < cycle.size(); ++i) segments[{cycle[i], cycle[(i + 1) % cycle.size()]}] = 1;
+  }
+  // A disk per cycle, or the tube that makes body-diagonal corners 26-connected.
+  std::vector<std::array<uint8_t, 3>> tris;
+  if (topology.tube) {
+    tris = tube_between(topology.cycles[0], topology.cycles[1]);
   } else {
-    for (const Cycle& cycle : cycles) {
+    for (const Cycle& cycle : topology.cycles) {
       auto t = triangulate_cycle(cycle);
       tris.insert(tris.end(), t.begin(), t.end());
     }
@@ -315,6 +316,27 @@ std::vector<std::array<uint8_t, 3>> build_case(int cs, int connectivity) {
 }
 
 }  // namespace
+
+int mc_shared_face(int e0, int e1) {
+  if (e0 == e1) return -1;
+  for (int fi = 0; fi < 6; ++fi) {
+    const Face& f = faces()[fi];
+    int found = 0;
+    for (int q = 0; q < 4; ++q) {
+      const int e = edge_between(f.corners[q], f.corners[(q + 1) % 4]);
+      found += (e == e0) + (e == e1);
+    }
+    if (found == 2) return fi;
+  }
+  return -1;
+}
+
+McCaseTopology mc_case_topology(int cs, int connectivity) {
+  if (connectivity != 6 && connectivity != 18 && connectivity != 26) {
+    throw std::invalid_argument("marching cubes: connectivity must be 6, 18 or 26");
+  }
+  return case_topology(cs, connectivity);
+}
 
 McTable build_mc_table(int connectivity) {
   if (connectivity != 6 && connectivity != 18 && connectivity != 26) {

@@ -52,6 +52,18 @@ struct McTable {
   int triangle_count(int c) const { return first[c + 1] - first[c]; }
 };
 
+// The surface of one case before triangulation: closed cycles of cut edges on the cell boundary,
+// each counter-clockwise seen from outside; `tube` when the two cycles bound one tube (the
+// 26-connectivity body-diagonal case). Dual Contouring builds its per-sheet vertices from this.
+struct McCaseTopology {
+  std::vector<std::vector<int>> cycles;
+  bool tube = false;
+};
+McCaseTopology mc_case_topology(int cs, int connectivity);
+
+// The face (2 * axis + side) that holds both cell edges, or -1 when they share none.
+int mc_shared_face(int e0, int e1);
+
 // The table for connectivity 6, 18 or 26 (built once, thread-safe). Throws std::invalid_argument
 // for any other connectivity.
 const McTable& mc_table(int connectivity);

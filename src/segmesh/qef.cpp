@@ -1,0 +1,103 @@
+#include "segmesh/qef.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace segmesh {
+
+void Qef::add(Vec3d p, Vec3d n) {
+  ata[0] += n.x * n.x;
+  ata[1] += n.x * n.y;
+  ata[2] += n.x * n.z;
+  ata[3] += n.y * n.y;
+  ata[4] += n.y * n.z;
+  ata[5] += n.z * n.z;
+  const double b = dot(n, p);
+  atb = atb + b * n;
+  btb += b * b;
+  point_sum = point_sum + p;
+  ++count;
+}
+
+void Qef::merge(const Qef& o) {
+  for (int i = 0; i < 6; ++i) ata[i] += o.ata[i];
+  atb = atb + o.atb;
+  btb += o.btb;
+  point_sum = point_sum + o.point_sum;
+  count += o.count;
+}
+
+namespace {
+Mat3d full(const std::array<double, 6>& a) {
+  return {a[0], a[1], a[2], a[1], a[3], a[4], a[2], a[4], a[5]};
+}
+}  // namespace
+
+double Qef::error(Vec3d x) const {
+  const Vec3d ax = full(ata) * x;
+  return std::max(0.0, dot(x, ax) - 2 * dot(x, atb) + btb);
+}
+
+void symmetric_eigen(const Mat3d& m, Vec3d& values, Mat3d& vectors) {
+  double a[3][3] = {{m[0], m[1], m[2]}, {m[3], m[4], m[5]}, {m[6], m[7], m[8]}};
+  double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const double scale = std::abs(a[0][0]) + std::abs(a[1][1]) + std::abs(a[2][2]) +
+                       std::abs(a[0][1]) + std::abs(a[0][2]) + std::abs(a[1][2]);
+  for (int sweep = 0; sweep < 32; ++sweep) {
+    const double off = std::abs(a[0][1]) + std::abs(a[0][2]) + std::abs(a[1][2]);
+    if (off <= 1e-15 * scale || off == 0) break;
+    for (int p = 0; p < 2; ++p) {
+      for (int q = p + 1; q < 3; ++q) {
+        if (a[p][q] == 0) continue;
+        // The rotation that zeroes a[p][q] (Golub and Van Loan, Algorithm 8.4.1).
+        const double theta = (a[q][q] - a[p][p]) / (2 * a[p][q]);
+        const double t = (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1));
+        const double c = 1 / std::sqrt(t * t + 1), s = t * c;
+        for (int k = 0; k < 3; ++k) {  // A <- A G (columns p, q)
+          const double akp = a[k][p], akq = a[k][q];
+          a[k][p] = c * akp - s * akq;
+          a[k][q] = s * akp + c * akq;
+        }
+        for (int k = 0; k < 3; ++k) {  // A <- G^T A (rows p, q)
+          const double apk = a[p][k], aqk = a[q][k];
+          a[p][k] = c * apk - s * aqk;
+          a[q][k] = s * apk + c * aqk;
+        }
+        for (int k = 0; k < 3; ++k) {  // V <- V G
+          const double vkp = v[k][p], vkq = v[k][q];
+          v[k][p] = c * vkp - s * vkq;
+          v[k][q] = s * vkp + c * vkq;
+        }
+      }
+    }
+  }
+  values = {a[0][0], a[1][1], a[2][2]};
+  vectors = {v[0][0], v[0][1], v[0][2], v[1][0], v[1][1], v[1][2], v[2][0], v[2][1], v[2][2]};
+}
+
+QefSolution solve_qef(const Qef& qef, double eps) {
+  QefSolution out;
+  if (qef.count == 0) return out;
+  const Vec3d mass = qef.mass_point();
+  // Solve A^T A y = A^T b - A^T A m for the offset y from the mass point.
+  const Mat3d ata = full(qef.ata);
+  const Vec3d rhs = qef.atb - ata * mass;
+  Vec3d lambda;
+  Mat3d v;
+  symmetric_eigen(ata, lambda, v);
+  const double sigma_max = std::sqrt(std::max({lambda.x, lambda.y, lambda.z, 0.0}));
+  double lam[3] = {lambda.x, lambda.y, lambda.z};
+  Vec3d y{};
+  for (int i = 0; i < 3; ++i) {
+    const double sigma = std::sqrt(std::max(lam[i], 0.0));
+    if (sigma_max <= 0 || sigma < eps * sigma_max) continue;
+    const Vec3d axis{v[i], v[3 + i], v[6 + i]};
+    y = y + (dot(axis, rhs) / lam[i]) * axis;
+    ++out.rank;
+  }
+  out.position = mass + y;
+  out.error = qef.error(out.position);
+  return out;
+}
+
+}  // namespace segmesh
