@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "segmesh/quality.hpp"
 #include "segmesh/vec3.hpp"
 
 namespace segmesh {
@@ -75,13 +76,6 @@ const std::array<Face, 6>& faces() {
 
 bool share_face(int e0, int e1) { return mc_shared_face(e0, e1) >= 0; }
 
-double radii_ratio(Vec3d p0, Vec3d p1, Vec3d p2) {
-  const double a = norm(p1 - p0), b = norm(p2 - p1), c = norm(p0 - p2);
-  const double s = 0.5 * (a + b + c);
-  const double denom = a * b * c;
-  if (denom <= 0) return 0;
-  return std::max(0.0, 8 * (s - a) * (s - b) * (s - c) / denom);
-}
 
 // Quality of a set of triangles: the worst radii ratio first, then the sum.
 struct Score {
