@@ -35,6 +35,9 @@ struct MeshArgs {
   std::string label_names;
   std::string format;
   std::string report;
+  double presmooth = 0;
+  double dc_svd_eps = MeshingOptions{}.dc_svd_eps;
+  double dc_tolerance = 0;
   int threads = 0;
   bool quiet = false;
 };
@@ -93,7 +96,10 @@ nlohmann::json options_json(const MeshArgs& a, const OutputTarget& out) {
                       {"format", extension(out.format)},
                       {"output", out.path.string()},
                       {"per_part_files", out.folder},
-                      {"threads", a.threads}};
+                      {"threads", a.threads},
+                      {"presmooth_mm", a.presmooth},
+                      {"dc_svd_eps", a.dc_svd_eps},
+                      {"dc_tolerance_mm", a.dc_tolerance}};
   j["iso"] = a.iso ? nlohmann::json(*a.iso) : nlohmann::json(nullptr);
   j["label_names"] = a.label_names.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.label_names);
   return j;
@@ -103,7 +109,7 @@ int run_mesh(const MeshArgs& args) {
   const auto start = std::chrono::steady_clock::now();
   MeshingOptions options;
   const auto method = parse_method(args.method);
-  if (!method) throw Error("--method must be mc (got \"" + args.method + "\")");
+  if (!method) throw Error("--method must be mc or dc (got \"" + args.method + "\")");
   options.method = *method;
   const auto normals = parse_normals(args.normals);
   if (!normals) throw Error("--normals must be central or sobel (got \"" + args.normals + "\")");
@@ -115,6 +121,9 @@ int run_mesh(const MeshArgs& args) {
   options.iso = args.iso;
   options.connectivity = args.connectivity;
   options.min_voxels = args.min_voxels;
+  options.presmooth_sigma_mm = args.presmooth;
+  options.dc_svd_eps = args.dc_svd_eps;
+  options.dc_tolerance_mm = args.dc_tolerance;
   const OutputTarget target = resolve_output(args);
   refuse_to_overwrite(target.path, args.input);
   if (!args.report.empty()) require_parent_folder(args.report);
@@ -127,7 +136,7 @@ int run_mesh(const MeshArgs& args) {
   t.read = ms_since(step);
 
   ProgressBar progress(!args.quiet);
-  PipelineTimings pipeline;
+  PipelineStats pipeline;
   const Scene scene = build_scene(image, options, progress, &pipeline);
   progress.finish();
   t.components = pipeline.components_ms;
@@ -147,7 +156,7 @@ int run_mesh(const MeshArgs& args) {
 
   const std::vector<MeshMeasures> measures = measure_parts(scene);
   if (!args.report.empty()) {
-    const auto report = mesh_report(image, options_json(args, target), t, scene, measures, outputs);
+    const auto report = mesh_report(image, options_json(args, target), t, pipeline, scene, measures, outputs);
     AtomicFile file(args.report);
     file.stream() << report.dump(2) << '\n';
     file.commit();
@@ -158,6 +167,10 @@ int run_mesh(const MeshArgs& args) {
     if (pipeline.dropped_components > 0) {
       std::printf(" (%lld components below --min-voxels dropped)",
                   (long long)pipeline.dropped_components);
+    }
+    if (pipeline.presmooth_fallbacks > 0) {
+      std::printf(" (%lld parts thinner than the --presmooth kernel meshed unsmoothed)",
+                  (long long)pipeline.presmooth_fallbacks);
     }
     std::printf(" in %.0f ms (read %.0f, components %.0f, extract %.0f, write %.0f)\n", t.total,
                 t.read, t.components, t.extract, t.write);
@@ -180,7 +193,8 @@ Subcommand add_mesh_command(CLI::App& app) {
                   "one file for all parts (scene.glb, .ply, .stl, .obj) or a folder ending in / "
                   "for one file per part")
       ->required();
-  cmd->add_option("--method", a->method, "extraction method: mc (Marching Cubes)")->capture_default_str();
+  cmd->add_option("--method", a->method, "extraction: mc (Marching Cubes) or dc (Dual Contouring)")
+      ->capture_default_str();
   cmd->add_option("--labels", a->labels, "labels to mesh, e.g. 1,2 (default: every non-zero label)")
       ->delimiter(',');
   cmd->add_option("--iso", a->iso, "mesh a grey-value volume (e.g. CT in HU) at this value");
@@ -188,6 +202,15 @@ Subcommand add_mesh_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--min-voxels", a->min_voxels, "drop components with fewer voxels")->capture_default_str();
   cmd->add_option("--normals", a->normals, "vertex normals: central or sobel")->capture_default_str();
+  cmd->add_option("--presmooth", a->presmooth,
+                  "Gaussian sigma in mm applied to each part before extraction (0: off; costs volume)")
+      ->capture_default_str();
+  cmd->add_option("--dc-svd-eps", a->dc_svd_eps,
+                  "Dual Contouring: drop QEF singular values below this fraction of the largest")
+      ->capture_default_str();
+  cmd->add_option("--dc-tolerance", a->dc_tolerance,
+                  "Dual Contouring: simplify flat regions up to this error in mm (0: off)")
+      ->capture_default_str();
   cmd->add_option("--label-names", a->label_names, "TSV file: label, name[, role bone|implant|other]");
   cmd->add_option("--format", a->format, "file format for a folder output: stl, ply (default), obj, glb");
   cmd->add_option("--report", a->report, "write a JSON report to this file");

@@ -16,7 +16,8 @@ std::vector<MeshMeasures> measure_parts(const Scene& scene) {
 }
 
 nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, const Timings& t,
-                           const Scene& scene, const std::vector<MeshMeasures>& measures,
+                           const PipelineStats& stats, const Scene& scene,
+                           const std::vector<MeshMeasures>& measures,
                            const std::vector<std::string>& outputs) {
   nlohmann::json input = grid_json(image.grid());
   input["path"] = image.path;
@@ -71,7 +72,9 @@ nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, co
             {"voxel_volume_mm3", voxel_volume},
             {"area_mm2", area},
             {"volume_mm3", volume},
-            {"all_closed", all_closed}}}};
+            {"all_closed", all_closed},
+            {"dropped_components", stats.dropped_components},
+            {"presmooth_fallbacks", stats.presmooth_fallbacks}}}};
 }
 
 std::string summary_table(const Scene& scene, const std::vector<MeshMeasures>& measures) {

@@ -7,6 +7,7 @@
 
 #include "segmesh/image.hpp"
 #include "segmesh/mesh_measures.hpp"
+#include "segmesh/pipeline.hpp"
 #include "segmesh/scene.hpp"
 
 namespace segmesh::cli {
@@ -19,7 +20,8 @@ struct Timings {
 std::vector<MeshMeasures> measure_parts(const Scene& scene);
 
 nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, const Timings& timings,
-                           const Scene& scene, const std::vector<MeshMeasures>& measures,
+                           const PipelineStats& stats, const Scene& scene,
+                           const std::vector<MeshMeasures>& measures,
                            const std::vector<std::string>& outputs);
 
 // A table of the parts for stdout.

@@ -9,21 +9,21 @@ namespace {
 
 constexpr float kLargeValue = 1e30f;
 
-Grid crop_grid(const Grid& grid, const Component& c, int margin) {
-  return grid.crop({c.first[0] - margin, c.first[1] - margin, c.first[2] - margin},
-                   {c.last[0] - c.first[0] + 1 + 2 * margin, c.last[1] - c.first[1] + 1 + 2 * margin,
-                    c.last[2] - c.first[2] + 1 + 2 * margin});
+Grid crop_grid(const Grid& grid, const Component& c, FieldMargin m) {
+  return grid.crop({c.first[0] - m[0], c.first[1] - m[1], c.first[2] - m[2]},
+                   {c.last[0] - c.first[0] + 1 + 2 * m[0], c.last[1] - c.first[1] + 1 + 2 * m[1],
+                    c.last[2] - c.first[2] + 1 + 2 * m[2]});
 }
 
 }  // namespace
 
 Volume<uint8_t> component_mask(const Grid& grid, const Components& components,
-                               const Component& component, int margin) {
+                               const Component& component, FieldMargin margin) {
   Volume<uint8_t> mask;
   mask.grid = crop_grid(grid, component, margin);
   mask.voxels.assign(mask.grid.voxel_count(), 0);
-  const int64_t x0 = component.first[0] - margin, y0 = component.first[1] - margin,
-                z0 = component.first[2] - margin;
+  const int64_t x0 = component.first[0] - margin[0], y0 = component.first[1] - margin[1],
+                z0 = component.first[2] - margin[2];
   for (const VoxelRun& run : components.runs_of(component)) {
     uint8_t* row = &mask.at(run.x_begin - x0, run.y - y0, run.z - z0);
     std::fill(row, row + (run.x_end - run.x_begin), uint8_t{1});
@@ -34,14 +34,14 @@ Volume<uint8_t> component_mask(const Grid& grid, const Components& components,
 template <class T>
 Volume<float> component_values(const Volume<T>& volume, const Components& components,
                                const Component& component, double iso, float background,
-                               int margin) {
+                               FieldMargin margin) {
   Volume<float> field;
   field.grid = crop_grid(volume.grid, component, margin);
   field.voxels.assign(field.grid.voxel_count(), background);
   const float below = std::nextafter(static_cast<float>(iso), -std::numeric_limits<float>::infinity());
   const auto& d = volume.grid.dims;
-  const int64_t x0 = component.first[0] - margin, y0 = component.first[1] - margin,
-                z0 = component.first[2] - margin;
+  const int64_t x0 = component.first[0] - margin[0], y0 = component.first[1] - margin[1],
+                z0 = component.first[2] - margin[2];
   const auto& fd = field.grid.dims;
   // Copy the volume's values inside its bounds, everything at or above iso lowered first ...
   for (int64_t k = std::max<int64_t>(z0, 0); k < std::min(z0 + fd[2], d[2]); ++k) {
@@ -64,8 +64,8 @@ Volume<float> component_values(const Volume<T>& volume, const Components& compon
 }
 
 template Volume<float> component_values(const Volume<int32_t>&, const Components&,
-                                        const Component&, double, float, int);
+                                        const Component&, double, float, FieldMargin);
 template Volume<float> component_values(const Volume<float>&, const Components&, const Component&,
-                                        double, float, int);
+                                        double, float, FieldMargin);
 
 }  // namespace segmesh

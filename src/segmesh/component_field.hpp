@@ -8,6 +8,8 @@
 // yields world coordinates directly.
 #pragma once
 
+#include <array>
+
 #include "segmesh/components.hpp"
 #include "segmesh/volume.hpp"
 
@@ -15,9 +17,14 @@ namespace segmesh {
 
 inline constexpr int kFieldMargin = 2;
 
+// Voxels of margin along each axis.
+using FieldMargin = std::array<int64_t, 3>;
+inline constexpr FieldMargin kDefaultFieldMargin{kFieldMargin, kFieldMargin, kFieldMargin};
+
 // 1 inside the component, 0 elsewhere (other components and other labels included).
 Volume<uint8_t> component_mask(const Grid& grid, const Components& components,
-                               const Component& component, int margin = kFieldMargin);
+                               const Component& component,
+                               FieldMargin margin = kDefaultFieldMargin);
 
 // A grey-value volume's values around the component. Voxels at or above iso that belong to other
 // components are lowered to just below iso (so they never join this part's surface), and the margin
@@ -25,11 +32,13 @@ Volume<uint8_t> component_mask(const Grid& grid, const Components& components,
 template <class T>
 Volume<float> component_values(const Volume<T>& volume, const Components& components,
                                const Component& component, double iso, float background,
-                               int margin = kFieldMargin);
+                               FieldMargin margin = kDefaultFieldMargin);
 
 extern template Volume<float> component_values(const Volume<int32_t>&, const Components&,
-                                               const Component&, double, float, int);
+                                               const Component&, double, float,
+                                               FieldMargin);
 extern template Volume<float> component_values(const Volume<float>&, const Components&,
-                                               const Component&, double, float, int);
+                                               const Component&, double, float,
+                                               FieldMargin);
 
 }  // namespace segmesh

@@ -13,6 +13,8 @@
 #include "segmesh/components.hpp"
 #include "segmesh/error.hpp"
 #include "segmesh/label_stats.hpp"
+#include "segmesh/dual_contouring.hpp"
+#include "segmesh/gaussian_filter.hpp"
 #include "segmesh/marching_cubes.hpp"
 
 namespace segmesh {
@@ -43,6 +45,13 @@ std::string label_list(const std::vector<LabelCount>& counts, size_t max_shown =
 }
 
 void validate(const MeshingOptions& o) {
+  if (!(o.presmooth_sigma_mm >= 0) || !std::isfinite(o.presmooth_sigma_mm)) {
+    throw Error("--presmooth must be a non-negative number of millimetres");
+  }
+  if (!(o.dc_svd_eps >= 0 && o.dc_svd_eps <= 1)) throw Error("--dc-svd-eps must be between 0 and 1");
+  if (!(o.dc_tolerance_mm >= 0) || !std::isfinite(o.dc_tolerance_mm)) {
+    throw Error("--dc-tolerance must be a non-negative number of millimetres");
+  }
   if (o.connectivity != 6 && o.connectivity != 18 && o.connectivity != 26) {
     throw Error("--connectivity must be 6, 18 or 26 (got " + std::to_string(o.connectivity) + ")");
   }
@@ -89,6 +98,32 @@ Components iso_components(const Image& image, const Volume<T>& volume, double is
   return components;
 }
 
+// Extracts one part from the field `make_field(margin)` cuts out: pre-smoothed when asked (with a
+// margin wide enough that the kernel never reaches the crop's border), then MC or DC. A part
+// thinner than the kernel can vanish when smoothed; it is then meshed unsmoothed (and counted),
+// because a part must never silently disappear.
+template <class MakeField>
+TriMesh extract_part(const Grid& grid, const MeshingOptions& o, double iso, float background,
+                     MakeField&& make_field, std::atomic<int64_t>& fallbacks) {
+  auto extract = [&](const auto& field) {
+    if (o.method == Method::dual_contouring) {
+      return dual_contouring(field, {.iso = iso,
+                                     .connectivity = o.connectivity,
+                                     .normals = o.normals,
+                                     .svd_eps = o.dc_svd_eps,
+                                     .tolerance_mm = o.dc_tolerance_mm});
+    }
+    return marching_cubes(field, {.iso = iso, .connectivity = o.connectivity, .normals = o.normals});
+  };
+  if (o.presmooth_sigma_mm > 0) {
+    const auto field = make_field(gaussian_margin(grid, o.presmooth_sigma_mm));
+    TriMesh mesh = extract(gaussian_filter(field, o.presmooth_sigma_mm, background));
+    if (!mesh.empty()) return mesh;
+    ++fallbacks;
+  }
+  return extract(make_field(kDefaultFieldMargin));
+}
+
 Part describe_part(const Image& image, const MeshingOptions& o, const Component& c, bool grey) {
   Part part;
   part.label = c.label;
@@ -123,10 +158,13 @@ Part describe_part(const Image& image, const MeshingOptions& o, const Component&
 
 }  // namespace
 
-std::string_view method_name(Method) { return "mc"; }
+std::string_view method_name(Method method) {
+  return method == Method::dual_contouring ? "dc" : "mc";
+}
 
 std::optional<Method> parse_method(std::string_view name) {
   if (name == "mc") return Method::marching_cubes;
+  if (name == "dc") return Method::dual_contouring;
   return std::nullopt;
 }
 
@@ -145,10 +183,10 @@ std::string part_name(std::string_view base, int component) {
 }
 
 Scene build_scene(const Image& image, const MeshingOptions& o, Progress& progress,
-                  PipelineTimings* timings) {
+                  PipelineStats* timings) {
   validate(o);
-  PipelineTimings local;
-  PipelineTimings& t = timings ? *timings : local;
+  PipelineStats local;
+  PipelineStats& t = timings ? *timings : local;
   Scene scene;
   scene.grid = image.grid();
   const bool grey = o.iso.has_value();
@@ -184,34 +222,36 @@ Scene build_scene(const Image& image, const MeshingOptions& o, Progress& progres
   t.components_ms = ms_since(start);
 
   // Extraction, one part per component.
-  progress.step("marching cubes");
+  progress.step(o.method == Method::dual_contouring ? "dual contouring" : "marching cubes");
   start = Clock::now();
   scene.parts.resize(kept.size());
   int64_t total_voxels = 0;
   for (const Component* c : kept) total_voxels += c->voxels;
-  std::atomic<int64_t> done_voxels{0};
+  std::atomic<int64_t> done_voxels{0}, fallbacks{0};
   // Outside the volume a grey-value field continues with its lowest value (or just below iso).
   const float background = grey ? static_cast<float>(std::min(range.min, *o.iso - 1.0)) : 0.0f;
-  const McOptions mc{.iso = grey ? *o.iso : 0.5, .connectivity = o.connectivity, .normals = o.normals};
   tbb::parallel_for(size_t{0}, kept.size(), [&](size_t p) {
     throw_if_cancelled(progress);
     const Component& c = *kept[p];
     Part part = describe_part(image, o, c, grey);
     if (!grey) {
-      part.mesh = marching_cubes(component_mask(image.grid(), components, c), mc);
-    } else if (image.is_integer()) {
-      part.mesh = marching_cubes(component_values(std::get<LabelVolume>(image.volume), components,
-                                                  c, *o.iso, background),
-                                 mc);
+      part.mesh = extract_part(image.grid(), o, 0.5, 0.0f, [&](FieldMargin m) {
+        return component_mask(image.grid(), components, c, m);
+      }, fallbacks);
     } else {
-      part.mesh = marching_cubes(component_values(std::get<ScalarVolume>(image.volume),
-                                                  components, c, *o.iso, background),
-                                 mc);
+      part.mesh = std::visit(
+          [&](const auto& v) {
+            return extract_part(image.grid(), o, *o.iso, background, [&](FieldMargin m) {
+              return component_values(v, components, c, *o.iso, background, m);
+            }, fallbacks);
+          },
+          image.volume);
     }
     scene.parts[p] = std::move(part);
     progress.update(double(done_voxels += c.voxels) / double(total_voxels));
   });
   t.extract_ms = ms_since(start);
+  t.presmooth_fallbacks = fallbacks;
   return scene;
 }
 

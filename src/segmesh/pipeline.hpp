@@ -1,11 +1,14 @@
 // The pipeline: the one path from a volume to a scene of meshed parts. The command line, the
 // viewer, the benchmarks and the tests all call build_scene; none of them re-implements a step.
 //
-//   volume ──► select labels ──► connected components ──► extract (Marching Cubes) ──► Scene
+//   volume ──► select labels ──► connected components ──► [pre-smooth] ──► extract (MC | DC) ──► Scene
 //
 // Label maps: every selected label is split into connected components (components.hpp); each
 // component becomes a Part, extracted from its own 0/1 indicator at 0.5 (component_field.hpp), so
-// parts never share vertices and each is closed on its own. Grey-value volumes (--iso): the
+// parts never share vertices and each is closed on its own. Extraction is Marching Cubes
+// (marching_cubes.hpp) or Dual Contouring (dual_contouring.hpp); with presmooth_sigma_mm > 0 the
+// part's field is first smoothed by a Gaussian (gaussian_filter.hpp) so binary labels get sub-voxel
+// shape, at a cost in volume. Grey-value volumes (--iso): the
 // voxels at or above iso are split the same way and each component is extracted from the grey
 // values themselves. Parts are extracted in parallel; the result does not depend on the number of
 // threads.
@@ -24,10 +27,10 @@
 
 namespace segmesh {
 
-enum class Method { marching_cubes };
+enum class Method { marching_cubes, dual_contouring };
 
 std::string_view method_name(Method method);
-std::optional<Method> parse_method(std::string_view name);  // "mc"
+std::optional<Method> parse_method(std::string_view name);  // "mc", "dc"
 std::string_view normals_name(NormalMethod normals);
 std::optional<NormalMethod> parse_normals(std::string_view name);  // "central", "sobel"
 
@@ -39,13 +42,17 @@ struct MeshingOptions {
   int64_t min_voxels = 0;        // drop components with fewer voxels (0 keeps everything)
   NormalMethod normals = NormalMethod::central;
   std::vector<LabelInfo> label_names;  // --label-names: override the names the file carries
+  double presmooth_sigma_mm = 0;  // > 0: Gaussian smoothing of each part's field before extraction
+  double dc_svd_eps = 0.5;        // Dual Contouring: relative singular value cut-off of the QEF
+  double dc_tolerance_mm = 0;     // Dual Contouring: > 0 simplifies flat regions adaptively
 };
 
-struct PipelineTimings {
+struct PipelineStats {
   double components_ms = 0;
   double extract_ms = 0;
   double smooth_ms = 0;
   int64_t dropped_components = 0;  // smaller than min_voxels
+  int64_t presmooth_fallbacks = 0;  // parts pre-smoothing would have erased, meshed unsmoothed
 };
 
 // A label map with more distinct values than this is taken for a grey-value image unless the
@@ -56,7 +63,7 @@ inline constexpr size_t kMaxLabelsWithoutSelection = 1000;
 // satisfy: a float volume without iso, a label that is not in the volume, no foreground at all,
 // nothing left after --min-voxels, invalid options. Throws Cancelled when progress is cancelled.
 Scene build_scene(const Image& image, const MeshingOptions& options,
-                  Progress& progress = null_progress(), PipelineTimings* timings = nullptr);
+                  Progress& progress = null_progress(), PipelineStats* timings = nullptr);
 
 // The name of a part: "<label name>_<k>", "label<L>_<k>" for unnamed labels, "iso<V>_<k>" for
 // grey-value components.

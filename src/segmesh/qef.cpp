@@ -33,9 +33,33 @@ Mat3d full(const std::array<double, 6>& a) {
 }
 }  // namespace
 
+Qef Qef::translated(Vec3d d) const {
+  Qef q = *this;
+  const Vec3d ad = full(ata) * d;
+  // b_i' = n_i . (p_i + d) = b_i + n_i . d
+  q.atb = atb + ad;
+  q.btb = btb + 2 * dot(d, atb) + dot(d, ad);
+  q.point_sum = point_sum + double(count) * d;
+  return q;
+}
+
 double Qef::error(Vec3d x) const {
   const Vec3d ax = full(ata) * x;
   return std::max(0.0, dot(x, ax) - 2 * dot(x, atb) + btb);
+}
+
+Vec3d keep_in_box(Vec3d x, Vec3d mass, Vec3d lo, Vec3d hi) {
+  const double xs[3] = {x.x, x.y, x.z}, los[3] = {lo.x, lo.y, lo.z}, his[3] = {hi.x, hi.y, hi.z};
+  double ms[3] = {mass.x, mass.y, mass.z};
+  for (int a = 0; a < 3; ++a) ms[a] = std::clamp(ms[a], los[a], his[a]);
+  double t = 1;
+  for (int a = 0; a < 3; ++a) {
+    const double d = xs[a] - ms[a];
+    if (xs[a] > his[a] && d > 0) t = std::min(t, (his[a] - ms[a]) / d);
+    if (xs[a] < los[a] && d < 0) t = std::min(t, (los[a] - ms[a]) / d);
+  }
+  t = std::max(t, 0.0);
+  return {ms[0] + t * (xs[0] - ms[0]), ms[1] + t * (xs[1] - ms[1]), ms[2] + t * (xs[2] - ms[2])};
 }
 
 void symmetric_eigen(const Mat3d& m, Vec3d& values, Mat3d& vectors) {

@@ -27,6 +27,9 @@ struct Qef {
   void add(Vec3d p, Vec3d n);
   void merge(const Qef& other);
   Vec3d mass_point() const { return count ? (1.0 / count) * point_sum : Vec3d{}; }
+  // The same samples expressed in a frame whose origin lies at -offset (every p_i + offset), so
+  // QEFs accumulated in different local frames can be merged.
+  Qef translated(Vec3d offset) const;
   double error(Vec3d x) const;  // E(x)
 };
 
@@ -38,6 +41,10 @@ struct QefSolution {
 
 // Minimises E, dropping singular values below eps * the largest.
 QefSolution solve_qef(const Qef& qef, double eps);
+
+// Moves x back along the line towards the mass point (itself first clamped into the box) until it
+// lies in the box [lo, hi]: how a QEF vertex is kept inside its cell.
+Vec3d keep_in_box(Vec3d x, Vec3d mass, Vec3d lo, Vec3d hi);
 
 // Eigen-decomposition of a symmetric 3x3 matrix (row-major) by cyclic Jacobi rotations:
 // eigenvalues in `values`, eigenvectors as the columns of `vectors` (row-major).

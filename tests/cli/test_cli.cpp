@@ -86,6 +86,23 @@ TEST(Cli, MeshWritesEveryFormatAndAReportOfClosedParts) {
                                             "scene.obj", "scene.mtl"}));
 }
 
+TEST(Cli, DualContouringWithPresmoothingAndSimplificationGivesClosedParts) {
+  const fs::path dir = test::scratch_dir("cli_dc");
+  const fs::path phantom = small_phantom("cli_dc");
+  const auto r = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "dc.glb") +
+                             " --method dc --presmooth 0.4 --dc-tolerance 0.05 --normals sobel" +
+                             " --report " + q(dir / "dc.json") + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(dir / "dc.json");
+  const auto report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["options"]["method"], "dc");
+  EXPECT_EQ(report["parts"].size(), 10u);
+  EXPECT_TRUE(report["totals"]["all_closed"].get<bool>());
+  const auto bad = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "x.glb") + " --method xx");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--method must be mc or dc"), std::string::npos) << bad.err;
+}
+
 TEST(Cli, FolderOutputWritesOneClosedFilePerPart) {
   const fs::path dir = test::scratch_dir("cli_parts");
   const fs::path phantom = small_phantom("cli_parts");

@@ -48,8 +48,8 @@ std::map<int32_t, double> interior_fraction(const LabelVolume& v) {
 }
 
 // Meshes every label and checks each part; returns per-label totals.
-std::map<int32_t, LabelTotals> mesh_and_check(const Image& image, int connectivity) {
-  const Scene scene = build_scene(image, {.connectivity = connectivity});
+std::map<int32_t, LabelTotals> mesh_and_check(const Image& image, int connectivity, Method method) {
+  const Scene scene = build_scene(image, {.method = method, .connectivity = connectivity});
   std::map<int32_t, LabelTotals> totals;
   for (const Part& part : scene.parts) {
     const MeshMeasures m = measure_mesh(part.mesh);
@@ -70,9 +70,11 @@ std::map<int32_t, LabelTotals> mesh_and_check(const Image& image, int connectivi
   return totals;
 }
 
-void check_label_map(const std::filesystem::path& file, int connectivity = 26) {
+void check_label_map(const std::filesystem::path& file, int connectivity = 26,
+                     Method method = Method::marching_cubes) {
+  SCOPED_TRACE(std::string(method_name(method)));
   const Image image = read_volume(file);
-  const auto totals = mesh_and_check(image, connectivity);
+  const auto totals = mesh_and_check(image, connectivity, method);
   // Part counts per label against a breadth-first search over the voxels.
   int count = 0;
   const auto& labels = std::get<LabelVolume>(image.volume);
@@ -104,18 +106,41 @@ void check_label_map(const std::filesystem::path& file, int connectivity = 26) {
 
 TEST(RealData, TotalSegmentatorExampleEveryLabel) {
   SEGMESH_DATA_FILE(file, "totalsegmentator/example_seg.nii.gz");
-  check_label_map(file);
+  for (Method method : {Method::marching_cubes, Method::dual_contouring}) {
+    check_label_map(file, 26, method);
+  }
 }
 
 TEST(RealData, TotalSegmentatorAnisotropicEveryLabelAllConnectivities) {
   SEGMESH_DATA_FILE(file, "totalsegmentator/example_seg_dicom.nii.gz");
-  for (int connectivity : {26, 18, 6}) check_label_map(file, connectivity);
+  for (Method method : {Method::marching_cubes, Method::dual_contouring}) {
+    for (int connectivity : {26, 18, 6}) check_label_map(file, connectivity, method);
+  }
 }
 
 TEST(RealData, PelvicFractureFragments) {
   for (const char* bone : {"001_LI_mask.nii.gz", "001_RI_mask.nii.gz", "001_SA_mask.nii.gz"}) {
     SEGMESH_DATA_FILE(file, std::string("pelvic_fracture/001/") + bone);
-    check_label_map(file);
+    for (Method method : {Method::marching_cubes, Method::dual_contouring}) {
+      check_label_map(file, 26, method);
+    }
+  }
+}
+
+TEST(RealData, EveryOtherLabelMapInTheDataClosedWithDualContouring) {
+  for (const char* name : {"pelvic_fracture/002/002_LI_mask.nii.gz", "pelvic_fracture/002/002_RI_mask.nii.gz",
+                           "pelvic_fracture/002/002_SA_mask.nii.gz", "pelvic_fracture/003/003_LI_mask.nii.gz",
+                           "pelvic_fracture/003/003_RI_mask.nii.gz", "pelvic_fracture/003/003_SA_mask.nii.gz",
+                           "dcmqi/liver_spine_seg.nrrd", "dcmqi/heart_seg.nrrd"}) {
+    SEGMESH_DATA_FILE(file, name);
+    const Image image = read_volume(file);
+    for (Method method : {Method::marching_cubes, Method::dual_contouring}) {
+      const Scene scene = build_scene(image, {.method = method});
+      for (const Part& part : scene.parts) {
+        EXPECT_TRUE(measure_mesh(part.mesh).closed()) << name << " " << part.name << " "
+                                                      << method_name(method);
+      }
+    }
   }
 }
 
@@ -124,12 +149,14 @@ TEST(RealData, GreyValueCtAtIntegerIsoIsClosedWithoutDegenerateTriangles) {
   // non-manifold edges and scikit-image degenerate triangles here).
   SEGMESH_DATA_FILE(file, "totalsegmentator/example_ct.nii.gz");
   const Image image = read_volume(file);
-  const Scene scene = build_scene(image, {.iso = 200, .min_voxels = 10});
-  ASSERT_FALSE(scene.parts.empty());
-  for (const Part& part : scene.parts) {
-    const MeshMeasures m = measure_mesh(part.mesh);
-    EXPECT_TRUE(m.closed()) << part.name;
-    EXPECT_EQ(m.degenerate_triangles, 0) << part.name;
+  for (Method method : {Method::marching_cubes, Method::dual_contouring}) {
+    const Scene scene = build_scene(image, {.method = method, .iso = 200, .min_voxels = 10});
+    ASSERT_FALSE(scene.parts.empty());
+    for (const Part& part : scene.parts) {
+      const MeshMeasures m = measure_mesh(part.mesh);
+      EXPECT_TRUE(m.closed()) << part.name << " " << method_name(method);
+      EXPECT_EQ(m.degenerate_triangles, 0) << part.name << " " << method_name(method);
+    }
   }
 }
 

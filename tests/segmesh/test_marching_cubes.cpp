@@ -14,56 +14,14 @@
 #include "segmesh/marching_cubes_table.hpp"
 #include "segmesh/mesh_measures.hpp"
 #include "support/reference_components.hpp"
+#include "support/test_fields.hpp"
 
 namespace segmesh {
 namespace {
 
-// A binary field with `pad` background voxels around the given inside pattern.
-Volume<uint8_t> padded(const std::array<int64_t, 3>& dims, const std::vector<uint8_t>& inside,
-                       int pad = 1) {
-  Volume<uint8_t> v;
-  v.grid.dims = {dims[0] + 2 * pad, dims[1] + 2 * pad, dims[2] + 2 * pad};
-  v.voxels.assign(v.grid.voxel_count(), 0);
-  for (int64_t k = 0; k < dims[2]; ++k)
-    for (int64_t j = 0; j < dims[1]; ++j)
-      for (int64_t i = 0; i < dims[0]; ++i)
-        v.at(i + pad, j + pad, k + pad) = inside[(k * dims[1] + j) * dims[0] + i];
-  return v;
-}
-
-// Connected components of voxels with value == `want` under 6/18/26-connectivity.
-std::vector<int> label_components(const Volume<uint8_t>& v, uint8_t want, int connectivity,
-                                  int& count) {
-  return test::reference_components(
-      v, connectivity, [want](uint8_t x) { return x == want; },
-      [](uint8_t, uint8_t) { return true; }, count);
-}
-
-// The background connectivity that pairs with each foreground connectivity in our table.
-int paired_background(int connectivity) { return connectivity == 6 ? 18 : 6; }
-
-// In a well-composed pairing every (foreground component, background component) pair that touches
-// is separated by exactly one connected surface.
-int64_t expected_shells(const Volume<uint8_t>& v, int connectivity) {
-  int nf = 0, nb = 0;
-  const auto fg = label_components(v, 1, connectivity, nf);
-  const auto bg = label_components(v, 0, paired_background(connectivity), nb);
-  std::set<std::pair<int, int>> pairs;
-  const auto& d = v.grid.dims;
-  for (int64_t k = 0; k < d[2]; ++k)
-    for (int64_t j = 0; j < d[1]; ++j)
-      for (int64_t i = 0; i < d[0]; ++i) {
-        const size_t a = v.grid.index(i, j, k);
-        for (int axis = 0; axis < 3; ++axis) {
-          const int64_t i1 = i + (axis == 0), j1 = j + (axis == 1), k1 = k + (axis == 2);
-          if (i1 >= d[0] || j1 >= d[1] || k1 >= d[2]) continue;
-          const size_t b = v.grid.index(i1, j1, k1);
-          if (v.voxels[a] == v.voxels[b]) continue;
-          pairs.insert(v.voxels[a] ? std::make_pair(fg[a], bg[b]) : std::make_pair(fg[b], bg[a]));
-        }
-      }
-  return static_cast<int64_t>(pairs.size());
-}
+using test::anisotropic_grid;
+using test::padded;
+using test::sample;
 
 void expect_closed(const TriMesh& mesh, const std::string& what) {
   const MeshMeasures m = measure_mesh(mesh);
@@ -102,7 +60,7 @@ TEST(MarchingCubes, AllSingleCellConfigurationsAreClosed) {
       const TriMesh mesh = marching_cubes(field, {.iso = 0.5, .connectivity = c});
       const std::string what = "connectivity " + std::to_string(c) + " case " + std::to_string(cs);
       expect_closed(mesh, what);
-      EXPECT_EQ(measure_mesh(mesh).shells, expected_shells(field, c)) << what;
+      EXPECT_EQ(measure_mesh(mesh).shells, test::expected_shells(field, c)) << what;
     }
   }
 }
@@ -119,7 +77,7 @@ TEST(MarchingCubes, AllTwoCellConfigurationsAreClosed) {
       const MeshMeasures m = measure_mesh(mesh);
       ASSERT_TRUE(m.closed()) << "connectivity " << c << " configuration " << cs;
       ASSERT_GT(m.volume_mm3, 0);
-      ASSERT_EQ(m.shells, expected_shells(field, c)) << "connectivity " << c << " config " << cs;
+      ASSERT_EQ(m.shells, test::expected_shells(field, c)) << "connectivity " << c << " config " << cs;
     }
   }
 }
@@ -135,7 +93,7 @@ TEST(MarchingCubes, RandomAndCheckerboardFieldsAreClosedWithOneShellPerBoundary)
       const TriMesh mesh = marching_cubes(field, {.iso = 0.5, .connectivity = c});
       const std::string what = "random, connectivity " + std::to_string(c);
       expect_closed(mesh, what);
-      EXPECT_EQ(measure_mesh(mesh).shells, expected_shells(field, c)) << what;
+      EXPECT_EQ(measure_mesh(mesh).shells, test::expected_shells(field, c)) << what;
     }
     std::vector<uint8_t> checker(9 * 9 * 9);
     for (int k = 0; k < 9; ++k)
@@ -144,7 +102,7 @@ TEST(MarchingCubes, RandomAndCheckerboardFieldsAreClosedWithOneShellPerBoundary)
     const auto field = padded({9, 9, 9}, checker);
     const TriMesh mesh = marching_cubes(field, {.iso = 0.5, .connectivity = c});
     expect_closed(mesh, "checkerboard, connectivity " + std::to_string(c));
-    EXPECT_EQ(measure_mesh(mesh).shells, expected_shells(field, c));
+    EXPECT_EQ(measure_mesh(mesh).shells, test::expected_shells(field, c));
   }
 }
 
@@ -162,31 +120,6 @@ TEST(MarchingCubes, IsoEqualToCornerValuesGivesNoDegenerateTriangles) {
     const TriMesh mesh = marching_cubes(v, {.iso = 1.0, .connectivity = c});
     expect_closed(mesh, "iso on corner values, connectivity " + std::to_string(c));
   }
-}
-
-// A signed field sampled on an anisotropic grid: value = shape(world point), inside positive.
-template <class F>
-Volume<float> sample(const Grid& grid, F&& shape) {
-  Volume<float> v;
-  v.grid = grid;
-  v.voxels.resize(grid.voxel_count());
-  for (int64_t k = 0; k < grid.dims[2]; ++k)
-    for (int64_t j = 0; j < grid.dims[1]; ++j)
-      for (int64_t i = 0; i < grid.dims[0]; ++i)
-        v.at(i, j, k) = static_cast<float>(shape(grid.to_world({double(i), double(j), double(k)})));
-  return v;
-}
-
-Grid anisotropic_grid(double extent, Mat3d direction = identity3()) {
-  Grid g;
-  g.spacing = {0.25, 0.3, 0.45};
-  g.direction = direction;
-  for (int a = 0; a < 3; ++a) g.dims[a] = static_cast<int64_t>(2 * extent / g.spacing[a]) + 1;
-  // Centre the grid on the world origin.
-  const Vec3d half = g.to_world({double(g.dims[0] - 1) / 2, double(g.dims[1] - 1) / 2,
-                                 double(g.dims[2] - 1) / 2});
-  g.origin = {-half.x, -half.y, -half.z};
-  return g;
 }
 
 double max_normal_angle_deg(const TriMesh& mesh, auto&& analytic_normal) {

@@ -81,9 +81,10 @@ TEST(Pipeline, PartsSitAtTheirLabelsInWorldSpaceOnRotatedAndMirroredGrids) {
   const double c = std::cos(0.4), s = std::sin(0.4);
   const Mat3d rotated{c, -s, 0, s, c, 0, 0, 0, 1};
   const Mat3d mirrored{c, -s, 0, s, c, 0, 0, 0, -1};  // LAS-like flip of the k axis
-  for (const Mat3d& direction : {rotated, mirrored}) {
+  for (const Mat3d& direction : {rotated, mirrored})
+  for (Method method : {Method::marching_cubes, Method::dual_contouring}) {
     const LabelVolume v = box_and_ball(direction);
-    const Scene scene = build_scene(label_image(v), {});
+    const Scene scene = build_scene(label_image(v), {.method = method});
     ASSERT_EQ(scene.parts.size(), 2u);
     expect_all_parts_closed(scene);
     const double voxel = std::max({v.grid.spacing[0], v.grid.spacing[1], v.grid.spacing[2]});
@@ -187,11 +188,29 @@ TEST(Pipeline, GreyValueVolumeAtIsoGivesClosedComponents) {
   EXPECT_NEAR(measure_mesh(scene.parts[1].mesh).volume_mm3, 4.0 / 3 * pi * 27, 0.05 * 4.0 / 3 * pi * 27);  // 3 slices per radius
 }
 
+TEST(Pipeline, PresmoothingKeepsPartsClosedAndCostsLittleVolumeOnThickParts) {
+  const LabelVolume v = box_and_ball(identity3());
+  const Scene plain = build_scene(label_image(v), {});
+  for (Method method : {Method::marching_cubes, Method::dual_contouring}) {
+    const Scene smooth = build_scene(label_image(v), {.method = method, .presmooth_sigma_mm = 0.6});
+    ASSERT_EQ(smooth.parts.size(), plain.parts.size());
+    expect_all_parts_closed(smooth);
+    for (size_t p = 0; p < smooth.parts.size(); ++p) {
+      const double before = measure_mesh(plain.parts[p].mesh).volume_mm3;
+      const double after = measure_mesh(smooth.parts[p].mesh).volume_mm3;
+      EXPECT_LT(after, before) << "smoothing a convex part shrinks it";
+      EXPECT_GT(after, 0.85 * before);
+    }
+  }
+  EXPECT_THROW(build_scene(label_image(v), {.presmooth_sigma_mm = -1}), Error);
+  EXPECT_THROW(build_scene(label_image(v), {.dc_svd_eps = 2}), Error);
+}
+
 TEST(Pipeline, MinVoxelsDropsSpecksAndCountsThem) {
   LabelVolume v = empty_labels({10, 10, 10});
   for (int i = 1; i < 6; ++i) v.at(i, 2, 2) = 1;
   v.at(8, 8, 8) = 1;
-  PipelineTimings t;
+  PipelineStats t;
   const Scene scene = build_scene(label_image(v), {.min_voxels = 2}, null_progress(), &t);
   ASSERT_EQ(scene.parts.size(), 1u);
   EXPECT_EQ(scene.parts[0].voxels, 5);

@@ -1,0 +1,59 @@
+// Dual Contouring (Ju, Losasso, Schaefer and Warren 2002) with one vertex per sheet, so every part
+// stays closed and manifold.
+//
+// Hermite data: every sign-changing edge gets its crossing (linear interpolation of the field,
+// edge_intersection.hpp) and the field gradient there (central differences or Sobel, divided by
+// the spacing). Vertices: every sheet of the surface inside a cell (dual_contouring_table.hpp: the
+// pieces of the cell's Marching Cubes surface) gets the minimiser of the QEF of its crossings
+// (qef.hpp), solved about the mass point with singular values below svd_eps * the largest dropped,
+// and kept inside its cell (or, for a cell with several sheets, inside the bounding box of the
+// sheet's crossings) by moving it back towards the mass point. Polygons: every sign-changing edge
+// gets the polygon of the sheets around it — a quad, or a pentagon/hexagon where a cell holds two
+// sheets at that edge — split into triangles along the diagonals that give the best radii ratios,
+// wound counter-clockwise seen from outside.
+//
+// This is the polygon set the octree recursion (cellProc / faceProc / edgeProc) yields over an
+// unsimplified octree — one polygon per minimal sign-changing edge — computed directly on the grid
+// in the manner of marching_cubes.hpp: counts per z-slab in parallel, prefix sums, then disjoint
+// output ranges, identical for any thread count. Adaptive simplification (`tolerance_mm` > 0)
+// clusters the cells of an octree built over the grid bottom-up: a node's children collapse into
+// one vertex where the merged QEF error stays within the tolerance and Ju et al.'s topology tests
+// hold (one sheet, no sign change hidden at edge, face or cell midpoints), so flat regions get
+// fewer, larger triangles without changing the surface's topology.
+//
+// Guarantees: on a padded field (background on the outer layer) the mesh is closed, edge-manifold
+// and consistently wound, with the connectivity of marching_cubes.hpp.
+// Cost: O(cells) time in three passes over the field plus one QEF solve per sheet; memory one byte
+// per cell for the cell cases plus the output.
+#pragma once
+
+#include <cstdint>
+
+#include "segmesh/gradient.hpp"
+#include "segmesh/progress.hpp"
+#include "segmesh/tri_mesh.hpp"
+#include "segmesh/volume.hpp"
+
+namespace segmesh {
+
+// QEF vertices stay this fraction of their cell away from the cell's faces, so vertices of
+// neighbouring cells never coincide (zero-area triangles).
+inline constexpr double kDcCellMargin = 0.05;
+
+struct DcOptions {
+  double iso = 0.5;
+  int connectivity = 26;                         // 6, 18 or 26: which sheets exist (see above)
+  NormalMethod normals = NormalMethod::central;  // the Hermite normals
+  double svd_eps = 0.5;      // singular values below svd_eps * the largest are dropped
+  double tolerance_mm = 0;   // > 0: adaptive simplification with this QEF error (RMS distance, mm)
+};
+
+template <class T>
+TriMesh dual_contouring(const Volume<T>& field, const DcOptions& options,
+                        Progress& progress = null_progress());
+
+extern template TriMesh dual_contouring(const Volume<uint8_t>&, const DcOptions&, Progress&);
+extern template TriMesh dual_contouring(const Volume<int32_t>&, const DcOptions&, Progress&);
+extern template TriMesh dual_contouring(const Volume<float>&, const DcOptions&, Progress&);
+
+}  // namespace segmesh

@@ -1,0 +1,51 @@
+// Fields the extraction tests are run on: padded 0/1 patterns and analytic shapes sampled on
+// anisotropic, rotated grids.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "segmesh/volume.hpp"
+
+namespace segmesh::test {
+
+// A binary field with `pad` background voxels around the given inside pattern.
+inline Volume<uint8_t> padded(const std::array<int64_t, 3>& dims, const std::vector<uint8_t>& inside,
+                       int pad = 1) {
+  Volume<uint8_t> v;
+  v.grid.dims = {dims[0] + 2 * pad, dims[1] + 2 * pad, dims[2] + 2 * pad};
+  v.voxels.assign(v.grid.voxel_count(), 0);
+  for (int64_t k = 0; k < dims[2]; ++k)
+    for (int64_t j = 0; j < dims[1]; ++j)
+      for (int64_t i = 0; i < dims[0]; ++i)
+        v.at(i + pad, j + pad, k + pad) = inside[(k * dims[1] + j) * dims[0] + i];
+  return v;
+}
+
+// A signed field sampled on an anisotropic grid: value = shape(world point), inside positive.
+template <class F>
+Volume<float> sample(const Grid& grid, F&& shape) {
+  Volume<float> v;
+  v.grid = grid;
+  v.voxels.resize(grid.voxel_count());
+  for (int64_t k = 0; k < grid.dims[2]; ++k)
+    for (int64_t j = 0; j < grid.dims[1]; ++j)
+      for (int64_t i = 0; i < grid.dims[0]; ++i)
+        v.at(i, j, k) = static_cast<float>(shape(grid.to_world({double(i), double(j), double(k)})));
+  return v;
+}
+
+inline Grid anisotropic_grid(double extent, Mat3d direction = identity3()) {
+  Grid g;
+  g.spacing = {0.25, 0.3, 0.45};
+  g.direction = direction;
+  for (int a = 0; a < 3; ++a) g.dims[a] = static_cast<int64_t>(2 * extent / g.spacing[a]) + 1;
+  // Centre the grid on the world origin.
+  const Vec3d half = g.to_world({double(g.dims[0] - 1) / 2, double(g.dims[1] - 1) / 2,
+                                 double(g.dims[2] - 1) / 2});
+  g.origin = {-half.x, -half.y, -half.z};
+  return g;
+}
+
+}  // namespace segmesh::test
