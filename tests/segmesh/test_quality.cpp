@@ -39,10 +39,6 @@ void add_triangle(TriMesh& mesh, Vec3f a, Vec3f b, Vec3f c) {
   mesh.indices.insert(mesh.indices.end(), {first, first + 1, first + 2});
 }
 
-Vec3f shifted(Vec3f p, float dx) {
-  return {p.x + dx, p.y, p.z};
-}
-
 TEST(QualityRadiiRatio, EquilateralIsOne) {
   EXPECT_NEAR(radii_ratio({1, 0, 0}, {0, 1, 0}, {0, 0, 1}), 1.0, 1e-12);
   EXPECT_NEAR(radii_ratio({0, 0, 0}, {2, 0, 0}, {1, std::sqrt(3.0), 0}), 1.0, 1e-12);
