@@ -9,6 +9,7 @@
 
 #include "segmesh/mesh_measures.hpp"
 #include "segmesh/pipeline.hpp"
+#include "segmesh/quality.hpp"
 #include "segmesh_io/read_volume.hpp"
 #include "support/reference_components.hpp"
 #include "support/test_support.hpp"
@@ -124,6 +125,25 @@ TEST(RealData, PelvicFractureFragments) {
     for (Method method : {Method::marching_cubes, Method::dual_contouring}) {
       check_label_map(file, 26, method);
     }
+  }
+}
+
+TEST(RealData, DualContouringHasBetterTrianglesThanMarchingCubes) {
+  for (const char* name : {"pelvic_fracture/001/001_LI_mask.nii.gz", "totalsegmentator/example_seg_dicom.nii.gz"}) {
+    SEGMESH_DATA_FILE(file, name);
+    const Image image = read_volume(file);
+    double mean[2];
+    for (Method method : {Method::marching_cubes, Method::dual_contouring}) {
+      const Scene scene = build_scene(image, {.method = method});
+      double sum = 0, n = 0;
+      for (const Part& part : scene.parts) {
+        const QualityStats q = triangle_quality(part.mesh);
+        sum += q.mean * double(q.triangles);
+        n += double(q.triangles);
+      }
+      mean[method == Method::dual_contouring] = sum / n;
+    }
+    EXPECT_GT(mean[1], mean[0]) << name << ": mean radii ratio DC " << mean[1] << ", MC " << mean[0];
   }
 }
 
