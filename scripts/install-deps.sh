@@ -12,7 +12,7 @@ packages=(
   libinsighttoolkit5-dev zlib1g-dev             # volume formats (NIfTI, NRRD, MHA, DICOM)
   libtbb-dev                                    # threads (oneTBB)
   libcli11-dev nlohmann-json3-dev               # command line, JSON (reports, glTF)
-  googletest libgtest-dev                       # tests
+  googletest libgtest-dev python3-numpy python3-scipy  # tests (../shared/tools/mesh_metrics.py)
 )
 if [[ "${1:-}" == "--with-peers" ]]; then
   packages+=(python3-vtk9 python3-skimage python3-numpy python3-nibabel python3-scipy)

@@ -16,6 +16,12 @@ uint32_t find_root(std::vector<uint32_t>& parent, uint32_t v) {
   return v;
 }
 
+// A half-edge a -> b of a triangle (a, b, c), stored in a's row as b << 32 | c: rows sorted by
+// these keys are sorted by b, and c is the triangle's corner before a (its other edge at a).
+uint64_t half_edge_key(uint32_t to, uint32_t third) { return uint64_t{to} << 32 | third; }
+uint32_t key_to(uint64_t key) { return static_cast<uint32_t>(key >> 32); }
+uint32_t key_third(uint64_t key) { return static_cast<uint32_t>(key); }
+
 }  // namespace
 
 MeshMeasures measure_mesh(const TriMesh& mesh) {
@@ -25,61 +31,104 @@ MeshMeasures measure_mesh(const TriMesh& mesh) {
   m.triangles = static_cast<int64_t>(nt);
   if (nt == 0) return m;
   const auto& idx = mesh.indices;
+  const auto& pos = mesh.positions;
 
   // Area and volume, relative to the centroid of the vertices to keep the sums well conditioned
-  // far from the world origin.
+  // far from the world origin; the volume is moved back to the origin by the exact correction
+  // centroid . sum(n) (header comment), which is zero for a closed mesh.
   Vec3d centre{};
-  for (const Vec3f& p : mesh.positions) centre = centre + to_double(p);
+  for (const Vec3f& p : pos) centre = centre + to_double(p);
   centre = (1.0 / double(nv)) * centre;
   double area = 0, volume6 = 0;
+  Vec3d normal_sum{};
   for (size_t t = 0; t < nt; ++t) {
-    const Vec3d a = to_double(mesh.positions[idx[3 * t]]) - centre;
-    const Vec3d b = to_double(mesh.positions[idx[3 * t + 1]]) - centre;
-    const Vec3d c = to_double(mesh.positions[idx[3 * t + 2]]) - centre;
+    const Vec3d a = to_double(pos[idx[3 * t]]) - centre;
+    const Vec3d b = to_double(pos[idx[3 * t + 1]]) - centre;
+    const Vec3d c = to_double(pos[idx[3 * t + 2]]) - centre;
     const Vec3d n = cross(b - a, c - a);
     const double twice_area = norm(n);
     area += twice_area;
     volume6 += dot(a, cross(b, c));
+    normal_sum = normal_sum + n;
     if (twice_area == 0) ++m.degenerate_triangles;
   }
   m.area_mm2 = 0.5 * area;
-  m.volume_mm3 = volume6 / 6.0;
+  m.volume_mm3 = (volume6 + dot(centre, normal_sum)) / 6.0;
 
-  // Outgoing half-edges per vertex, compressed rows.
+  // Outgoing half-edges per vertex, compressed rows, each with its triangle's third corner.
   std::vector<uint32_t> first(nv + 1, 0);
   for (size_t h = 0; h < idx.size(); ++h) ++first[idx[h] + 1];
   std::partial_sum(first.begin(), first.end(), first.begin());
-  std::vector<uint32_t> to(idx.size());
+  std::vector<uint64_t> half(idx.size());
   {
     std::vector<uint32_t> fill(first.begin(), first.end() - 1);
     for (size_t t = 0; t < nt; ++t) {
       for (int k = 0; k < 3; ++k) {
         const uint32_t a = idx[3 * t + k], b = idx[3 * t + (k + 1) % 3];
-        to[fill[a]++] = b;
+        const uint32_t c = idx[3 * t + (k + 2) % 3];
+        half[fill[a]++] = half_edge_key(b, c);
       }
     }
   }
-  for (size_t v = 0; v < nv; ++v) std::sort(to.begin() + first[v], to.begin() + first[v + 1]);
+  for (size_t v = 0; v < nv; ++v) std::sort(half.begin() + first[v], half.begin() + first[v + 1]);
   auto count_half_edges = [&](uint32_t a, uint32_t b) {
-    const auto lo = to.begin() + first[a], hi = to.begin() + first[a + 1];
-    return static_cast<int64_t>(std::upper_bound(lo, hi, b) - std::lower_bound(lo, hi, b));
+    const auto lo = half.begin() + first[a], hi = half.begin() + first[a + 1];
+    return static_cast<int64_t>(std::upper_bound(lo, hi, half_edge_key(b, UINT32_MAX)) -
+                                std::lower_bound(lo, hi, half_edge_key(b, 0)));
   };
 
   // Each undirected edge {a, b} is looked at once: from its smaller end, or from the larger end
-  // when no half-edge leaves the smaller one.
+  // when no half-edge leaves the smaller one. An edge from a vertex to itself (a triangle that
+  // repeats an index) is one edge used once per half-edge, as mesh_metrics.py counts it.
+  double length_sum = 0;
   for (uint32_t a = 0; a < nv; ++a) {
     for (uint32_t h = first[a]; h < first[a + 1]; ++h) {
-      const uint32_t b = to[h];
-      if (h > first[a] && to[h - 1] == b) continue;  // repeated half-edge, already counted
+      const uint32_t b = key_to(half[h]);
+      if (h > first[a] && key_to(half[h - 1]) == b) continue;  // a repeat, already counted
       const int64_t ab = count_half_edges(a, b);
-      const int64_t ba = count_half_edges(b, a);
+      const int64_t ba = a == b ? 0 : count_half_edges(b, a);
       if (a > b && ba > 0) continue;  // counted from b
       ++m.edges;
+      length_sum += norm(to_double(pos[a]) - to_double(pos[b]));
       const int64_t uses = ab + ba;
       if (uses == 1) ++m.boundary_edges;
       else if (uses > 2) ++m.nonmanifold_edges;
       else if (ab != 1) ++m.winding_errors;
     }
+  }
+  m.mean_edge_length_mm = length_sum / double(m.edges);
+
+  // Fans: around vertex v, each edge {v, u} is a node named by u, and each triangle corner at v
+  // links its two edges (u = the half-edge's end, and the third corner). The fans are the
+  // connected groups of nodes. An edge {v, v} has a second end that no corner reaches, so it is
+  // a group of its own, as in mesh_metrics.py's (edge, end) nodes.
+  std::vector<uint32_t> ends, group;
+  for (uint32_t v = 0; v < nv; ++v) {
+    if (first[v] == first[v + 1]) continue;
+    ends.clear();
+    bool self_edge = false;
+    for (uint32_t h = first[v]; h < first[v + 1]; ++h) {
+      ends.push_back(key_to(half[h]));
+      ends.push_back(key_third(half[h]));
+      self_edge = self_edge || key_to(half[h]) == v;
+    }
+    std::sort(ends.begin(), ends.end());
+    ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+    group.resize(ends.size());
+    std::iota(group.begin(), group.end(), 0u);
+    auto node = [&](uint32_t u) {
+      return static_cast<uint32_t>(std::lower_bound(ends.begin(), ends.end(), u) - ends.begin());
+    };
+    size_t fans = ends.size() + (self_edge ? 1 : 0);
+    for (uint32_t h = first[v]; h < first[v + 1]; ++h) {
+      const uint32_t x = find_root(group, node(key_to(half[h])));
+      const uint32_t y = find_root(group, node(key_third(half[h])));
+      if (x != y) {
+        group[y] = x;
+        --fans;
+      }
+    }
+    if (fans > 1) ++m.nonmanifold_vertices;
   }
 
   // Shells: triangles connected through shared vertices.
