@@ -36,6 +36,9 @@ struct MeshArgs {
   std::string format;
   std::string report;
   double presmooth = 0;
+  std::string smooth = std::string(smooth_method_name(default_smoothing().method));
+  SmoothOptions smooth_options = default_smoothing();
+  std::string color = "material";
   double dc_svd_eps = MeshingOptions{}.dc_svd_eps;
   double dc_tolerance = 0;
   int threads = 0;
@@ -98,6 +101,18 @@ nlohmann::json options_json(const MeshArgs& a, const OutputTarget& out) {
                       {"per_part_files", out.folder},
                       {"threads", a.threads},
                       {"presmooth_mm", a.presmooth},
+                      {"smooth",
+                       {{"method", a.smooth},
+                        {"iterations", a.smooth_options.iterations},
+                        {"lambda", a.smooth_options.lambda},
+                        {"alpha", a.smooth_options.alpha},
+                        {"beta", a.smooth_options.beta},
+                        {"taubin_lambda", a.smooth_options.taubin_lambda},
+                        {"taubin_mu", a.smooth_options.taubin_mu},
+                        {"pass_band", a.smooth_options.pass_band},
+                        {"sinc_unit_gain", a.smooth_options.sinc_unit_gain},
+                        {"preserve_volume", a.smooth_options.preserve_volume}}},
+                      {"color", a.color},
                       {"dc_svd_eps", a.dc_svd_eps},
                       {"dc_tolerance_mm", a.dc_tolerance}};
   j["iso"] = a.iso ? nlohmann::json(*a.iso) : nlohmann::json(nullptr);
@@ -124,6 +139,16 @@ int run_mesh(const MeshArgs& args) {
   options.presmooth_sigma_mm = args.presmooth;
   options.dc_svd_eps = args.dc_svd_eps;
   options.dc_tolerance_mm = args.dc_tolerance;
+  const auto smooth = parse_smooth_method(args.smooth);
+  if (!smooth) {
+    throw Error("--smooth must be none, laplacian, hc, taubin or sinc (got \"" + args.smooth + "\")");
+  }
+  options.smooth = args.smooth_options;
+  options.smooth.method = *smooth;
+  if (args.color != "material" && args.color != "quality") {
+    throw Error("--color must be material or quality (got \"" + args.color + "\")");
+  }
+  options.color_by_quality = args.color == "quality";
   const OutputTarget target = resolve_output(args);
   refuse_to_overwrite(target.path, args.input);
   if (!args.report.empty()) require_parent_folder(args.report);
@@ -137,7 +162,9 @@ int run_mesh(const MeshArgs& args) {
 
   ProgressBar progress(!args.quiet);
   PipelineStats pipeline;
-  const Scene scene = build_scene(image, options, progress, &pipeline);
+  Scene unsmoothed;
+  const Scene scene = build_scene(image, options, progress, &pipeline,
+                                  args.report.empty() ? nullptr : &unsmoothed);
   progress.finish();
   t.components = pipeline.components_ms;
   t.extract = pipeline.extract_ms;
@@ -156,7 +183,9 @@ int run_mesh(const MeshArgs& args) {
 
   const std::vector<MeshMeasures> measures = measure_parts(scene);
   if (!args.report.empty()) {
-    const auto report = mesh_report(image, options_json(args, target), t, pipeline, scene, measures, outputs);
+    const auto report = mesh_report(image, options_json(args, target), t, pipeline, scene,
+                                    options.smooth.method == SmoothMethod::none ? nullptr : &unsmoothed,
+                                    measures, outputs);
     AtomicFile file(args.report);
     file.stream() << report.dump(2) << '\n';
     file.commit();
@@ -172,8 +201,8 @@ int run_mesh(const MeshArgs& args) {
       std::printf(" (%lld parts thinner than the --presmooth kernel meshed unsmoothed)",
                   (long long)pipeline.presmooth_fallbacks);
     }
-    std::printf(" in %.0f ms (read %.0f, components %.0f, extract %.0f, write %.0f)\n", t.total,
-                t.read, t.components, t.extract, t.write);
+    std::printf(" in %.0f ms (read %.0f, components %.0f, extract %.0f, smooth %.0f, write %.0f)\n",
+                t.total, t.read, t.components, t.extract, t.smooth, t.write);
     std::printf("wrote %s%s\n", target.path.string().c_str(),
                 target.folder ? (" (" + std::to_string(outputs.size()) + " files)").c_str() : "");
     if (!args.report.empty()) std::printf("report %s\n", args.report.c_str());
@@ -210,6 +239,25 @@ Subcommand add_mesh_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--dc-tolerance", a->dc_tolerance,
                   "Dual Contouring: simplify flat regions up to this error in mm (0: off)")
+      ->capture_default_str();
+  cmd->add_option("--smooth", a->smooth, "smoothing: none, laplacian, hc, taubin or sinc")
+      ->capture_default_str();
+  auto& so = a->smooth_options;
+  cmd->add_option("--iterations", so.iterations, "smoothing iterations (0: the method's default)")
+      ->capture_default_str();
+  cmd->add_option("--lambda", so.lambda, "Laplacian step (1: move to the neighbour average)")
+      ->capture_default_str();
+  cmd->add_option("--alpha", so.alpha, "HC: weight of the original positions")->capture_default_str();
+  cmd->add_option("--beta", so.beta, "HC: weight of a vertex's own correction")->capture_default_str();
+  cmd->add_option("--taubin-lambda", so.taubin_lambda, "Taubin: shrinking step")->capture_default_str();
+  cmd->add_option("--taubin-mu", so.taubin_mu, "Taubin: inflating step (negative)")->capture_default_str();
+  cmd->add_option("--pass-band", so.pass_band, "windowed sinc: pass band (3D Slicer: 0.01)")
+      ->capture_default_str();
+  cmd->add_flag("!--no-preserve-volume", so.preserve_volume,
+                "do not restore each part's volume after smoothing (the plain filter)");
+  cmd->add_flag("!--no-unit-gain", so.sinc_unit_gain,
+                "windowed sinc exactly as VTK and 3D Slicer (a slight scaling, f(0) != 1)");
+  cmd->add_option("--color", a->color, "vertex colours: material or quality (radii ratio, blue 0 to green 1)")
       ->capture_default_str();
   cmd->add_option("--label-names", a->label_names, "TSV file: label, name[, role bone|implant|other]");
   cmd->add_option("--format", a->format, "file format for a folder output: stl, ply (default), obj, glb");

@@ -13,9 +13,14 @@ int main(int argc, char** argv) {
   CLI::App app{"segmesh: watertight surface meshes from segmented CT volumes", "segmesh"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("segmesh 0.1.0"));
-  const segmesh::cli::Subcommand commands[] = {segmesh::cli::add_info_command(app),
-                                                segmesh::cli::add_mesh_command(app),
-                                                segmesh::cli::add_phantom_command(app)};
+  // One entry per subcommand (commands.hpp), in the order `segmesh --help` lists them.
+  const segmesh::cli::Subcommand commands[] = {
+      segmesh::cli::add_info_command(app),
+      segmesh::cli::add_mesh_command(app),
+      segmesh::cli::add_phantom_command(app),
+      segmesh::cli::add_quality_command(app),
+      segmesh::cli::add_study_command(app),
+  };
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -5,6 +5,8 @@
 #include <cstdio>
 
 #include "cli_common.hpp"
+#include "segmesh/mesh_distance.hpp"
+#include "segmesh/quality.hpp"
 
 namespace segmesh::cli {
 
@@ -17,11 +19,27 @@ std::vector<MeshMeasures> measure_parts(const Scene& scene) {
 
 nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, const Timings& t,
                            const PipelineStats& stats, const Scene& scene,
-                           const std::vector<MeshMeasures>& measures,
+                           const Scene* unsmoothed, const std::vector<MeshMeasures>& measures,
                            const std::vector<std::string>& outputs) {
   nlohmann::json input = grid_json(image.grid());
   input["path"] = image.path;
   input["type"] = image.voxel_type;
+  // Quality and how far smoothing moved each part, in parallel over parts.
+  struct Extra {
+    QualityStats quality;
+    double volume_before = 0;
+    Deviation deviation{0, 0, 0};
+  };
+  std::vector<Extra> extra(scene.parts.size());
+  const bool smoothed = unsmoothed && unsmoothed->parts.size() == scene.parts.size();
+  tbb::parallel_for(size_t{0}, scene.parts.size(), [&](size_t p) {
+    extra[p].quality = triangle_quality(scene.parts[p].mesh);
+    extra[p].volume_before = measures[p].volume_mm3;
+    if (smoothed) {
+      extra[p].volume_before = measure_mesh(unsmoothed->parts[p].mesh).volume_mm3;
+      extra[p].deviation = mesh_deviation(unsmoothed->parts[p].mesh, scene.parts[p].mesh);
+    }
+  });
   nlohmann::json parts = nlohmann::json::array();
   int64_t vertices = 0, triangles = 0, voxels = 0;
   double area = 0, volume = 0, voxel_volume = 0;
@@ -44,7 +62,16 @@ nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, co
                      {"nonmanifold_edges", m.nonmanifold_edges},
                      {"winding_errors", m.winding_errors},
                      {"shells", m.shells},
-                     {"euler", m.euler}});
+                     {"euler", m.euler},
+                     {"radii_ratio", {{"min", extra[p].quality.min}, {"mean", extra[p].quality.mean}}},
+                     {"volume_change_percent",
+                      100 * (m.volume_mm3 - extra[p].volume_before) / extra[p].volume_before},
+                     {"volume_vs_voxels_percent",
+                      100 * (m.volume_mm3 - part.voxel_volume_mm3) / part.voxel_volume_mm3},
+                     {"smoothing_deviation_mm",
+                      {{"hausdorff", extra[p].deviation.hausdorff},
+                       {"mean", extra[p].deviation.mean},
+                       {"p95", extra[p].deviation.p95}}}});
     vertices += m.vertices;
     triangles += m.triangles;
     voxels += part.voxels;

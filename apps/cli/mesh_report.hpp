@@ -1,4 +1,6 @@
-// The JSON report of `segmesh mesh --report` and the summary table it prints.
+// The JSON report of `segmesh mesh --report` and the summary table it prints. Per part, besides
+// the topology checks: radii ratio, the volume change smoothing made and how far it moved the
+// surface (symmetric deviation against `unsmoothed`, the parts as extracted; null when not smoothed).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -21,7 +23,7 @@ std::vector<MeshMeasures> measure_parts(const Scene& scene);
 
 nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, const Timings& timings,
                            const PipelineStats& stats, const Scene& scene,
-                           const std::vector<MeshMeasures>& measures,
+                           const Scene* unsmoothed, const std::vector<MeshMeasures>& measures,
                            const std::vector<std::string>& outputs);
 
 // A table of the parts for stdout.

@@ -1,7 +1,8 @@
 // The pipeline: the one path from a volume to a scene of meshed parts. The command line, the
 // viewer, the benchmarks and the tests all call build_scene; none of them re-implements a step.
 //
-//   volume ──► select labels ──► connected components ──► [pre-smooth] ──► extract (MC | DC) ──► Scene
+//   volume ──► select labels ──► connected components ──► [pre-smooth] ──► extract (MC | DC)
+//          ──► smooth ──► [quality colours] ──► Scene
 //
 // Label maps: every selected label is split into connected components (components.hpp); each
 // component becomes a Part, extracted from its own 0/1 indicator at 0.5 (component_field.hpp), so
@@ -24,6 +25,7 @@
 #include "segmesh/label_info.hpp"
 #include "segmesh/progress.hpp"
 #include "segmesh/scene.hpp"
+#include "segmesh/smoothing.hpp"
 
 namespace segmesh {
 
@@ -33,6 +35,10 @@ std::string_view method_name(Method method);
 std::optional<Method> parse_method(std::string_view name);  // "mc", "dc"
 std::string_view normals_name(NormalMethod normals);
 std::optional<NormalMethod> parse_normals(std::string_view name);  // "central", "sobel"
+
+// The smoothing `segmesh mesh` applies unless told otherwise (chosen by measurement:
+// docs/STUDY.md).
+SmoothOptions default_smoothing();
 
 struct MeshingOptions {
   Method method = Method::marching_cubes;
@@ -45,6 +51,8 @@ struct MeshingOptions {
   double presmooth_sigma_mm = 0;  // > 0: Gaussian smoothing of each part's field before extraction
   double dc_svd_eps = 0.5;        // Dual Contouring: relative singular value cut-off of the QEF
   double dc_tolerance_mm = 0;     // Dual Contouring: > 0 simplifies flat regions adaptively
+  SmoothOptions smooth = default_smoothing();  // after extraction, per part
+  bool color_by_quality = false;  // per-vertex colours from the worst incident radii ratio
 };
 
 struct PipelineStats {
@@ -62,8 +70,18 @@ inline constexpr size_t kMaxLabelsWithoutSelection = 1000;
 // Builds the scene. Throws segmesh::Error (naming image.path) for requests the volume cannot
 // satisfy: a float volume without iso, a label that is not in the volume, no foreground at all,
 // nothing left after --min-voxels, invalid options. Throws Cancelled when progress is cancelled.
+// With `unsmoothed`, also returns the scene as extracted, before smoothing (for reports that say
+// how far smoothing moved the surface).
 Scene build_scene(const Image& image, const MeshingOptions& options,
-                  Progress& progress = null_progress(), PipelineStats* timings = nullptr);
+                  Progress& progress = null_progress(), PipelineStats* timings = nullptr,
+                  Scene* unsmoothed = nullptr);
+
+// The smoothing step on its own: every part smoothed in parallel (normals recomputed); then
+// quality colours when asked. build_scene ends with it; the study runs it with many settings.
+void smooth_scene(Scene& scene, const SmoothOptions& options, Progress& progress = null_progress());
+
+// Sets every part's vertex colours from its radii ratios (blue 0 to green 1).
+void color_scene_by_quality(Scene& scene);
 
 // The name of a part: "<label name>_<k>", "label<L>_<k>" for unnamed labels, "iso<V>_<k>" for
 // grey-value components.

@@ -256,3 +256,73 @@ TEST(Cli, UsageErrorsAndHelp) {
 
 }  // namespace
 }  // namespace segmesh
+
+namespace segmesh {
+namespace {
+
+TEST(Cli, StudyWritesTheThreeTablesJsonAndColourCodedMeshes) {
+  const fs::path dir = test::scratch_dir("cli_study");
+  // A small phantom keeps the study (many smoothings, each with a deviation) quick.
+  const fs::path phantom = dir / "phantom.nii.gz";
+  ASSERT_EQ(run_segmesh("phantom -o " + q(phantom) + " --size 128,128,51 --spacing 0.8,0.8,8 --quiet").exit_code, 0);
+  const auto r = run_segmesh("study " + q(phantom) + " -o " + q(dir / "study") + " --labels 1 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream md_in(dir / "study" / "study.md");
+  const std::string md((std::istreambuf_iterator<char>(md_in)), std::istreambuf_iterator<char>());
+  for (const char* heading : {"## Table 1", "## Table 2", "## Table 3", "Reference thesis", "hc", "taubin", "sinc"}) {
+    EXPECT_NE(md.find(heading), std::string::npos) << heading;
+  }
+  std::ifstream json_in(dir / "study" / "study.json");
+  const auto j = nlohmann::json::parse(json_in);
+  ASSERT_EQ(j["extractions"].size(), 2u);
+  const auto& mc = j["extractions"][0];
+  EXPECT_EQ(mc["method"], "mc");
+  ASSERT_GE(mc["smoothing"].size(), 10u);
+  // Laplacian shrinks more than HC, both reported with a deviation from the unsmoothed surface.
+  double laplacian = 0, hc = 0;
+  for (const auto& s : mc["smoothing"]) {
+    if (s["iterations"] != 2) continue;
+    if (s["method"] == "laplacian") laplacian = s["volume_change_percent"];
+    if (s["method"] == "hc") hc = s["volume_change_percent"];
+    EXPECT_GT(s["deviation_mm"]["hausdorff"].get<double>(), 0.0);
+  }
+  EXPECT_LT(laplacian, hc);
+  EXPECT_LT(std::abs(hc), 0.6);
+  for (const char* mesh : {"mc_quality.glb", "dc_quality.glb"}) {
+    ASSERT_TRUE(fs::exists(dir / "study" / mesh)) << mesh;
+    const Scene s = read_mesh(dir / "study" / mesh);
+    ASSERT_FALSE(s.parts.empty());
+    EXPECT_EQ(s.parts[0].mesh.colors.size(), s.parts[0].mesh.positions.size()) << "quality colours";
+  }
+}
+
+}  // namespace
+}  // namespace segmesh
+
+namespace segmesh {
+namespace {
+
+TEST(Cli, ColorQualityWritesRadiiRatioColoursIntoPlyAndGlb) {
+  const fs::path dir = test::scratch_dir("cli_color");
+  const fs::path phantom = small_phantom("cli_color");
+  for (const char* name : {"q.ply", "q.glb"}) {
+    const auto r = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / name) + " --color quality --quiet");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const Scene s = read_mesh(dir / name);
+    bool blueish = false, greenish = false;
+    for (const Part& p : s.parts) {
+      ASSERT_EQ(p.mesh.colors.size(), p.mesh.positions.size()) << name;
+      for (const Rgba8& c : p.mesh.colors) {
+        EXPECT_EQ(c[0], 0);
+        blueish = blueish || c[2] > 200;
+        greenish = greenish || c[1] > 200;
+      }
+    }
+    EXPECT_TRUE(blueish && greenish) << name << ": poor and good triangles both coloured";
+  }
+  const auto bad = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "x.ply") + " --color pink");
+  EXPECT_EQ(bad.exit_code, 2);
+}
+
+}  // namespace
+}  // namespace segmesh
