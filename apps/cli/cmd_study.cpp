@@ -96,7 +96,7 @@ std::string smoothing_label(const SmoothOptions& o, bool with_iterations = true)
     s += " x" + std::to_string(o.iterations ? o.iterations : default_smooth_iterations(o.method));
   }
   if (o.method == SmoothMethod::sinc) {
-    char buf[32];
+    char buf[64];
     std::snprintf(buf, sizeof buf, " (pass band %g%s)", o.pass_band,
                   o.sinc_unit_gain ? ", unit gain" : ", as 3D Slicer");
     s += buf;
