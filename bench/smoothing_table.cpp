@@ -67,6 +67,8 @@ int main(int argc, char** argv) {
     o.method = m;
     o.iterations = iterations;
     o.pass_band = pass_band;
+    o.sinc_unit_gain = false;   // the plain filters, windowed sinc as VTK / 3D Slicer
+    o.preserve_volume = false;
     settings.push_back(o);
   };
   add(SmoothMethod::none, 0);
@@ -75,6 +77,7 @@ int main(int argc, char** argv) {
   for (int n : {10, 20, 40, 100}) add(SmoothMethod::taubin, n);
   for (double pb : {0.1, 0.01, 0.001}) add(SmoothMethod::sinc, 20, pb);
   add(SmoothMethod::sinc, 40, 0.01);
+  settings.push_back(default_smoothing());  // last row: segmesh's default
   std::printf("| input | smoothing | volume change | deviation mean / p95 (mm) | normal angle (deg) | rho mean |\n");
   std::printf("| --- | --- | ---: | --- | ---: | ---: |\n");
   for (int a = 1; a < argc; ++a) {
@@ -93,8 +96,9 @@ int main(int argc, char** argv) {
       for (const Part& p : scene.parts) v += measure_mesh(p.mesh).volume_mm3;
       const TriMesh after = merged(scene);
       const Deviation d = s.method == SmoothMethod::none ? Deviation{0, 0, 0} : mesh_deviation(before, after);
-      char label[64];
-      std::snprintf(label, sizeof label, "%s x%d%s", std::string(smooth_method_name(s.method)).c_str(),
+      char label[96];
+      std::snprintf(label, sizeof label, "%s%s x%d%s", s.preserve_volume ? "segmesh default: " : "",
+                    std::string(smooth_method_name(s.method)).c_str(),
                     s.iterations, s.method == SmoothMethod::sinc ? (" pb " + std::to_string(s.pass_band).substr(0, 5)).c_str() : "");
       std::printf("| %s | %s | %+.3f %% | %.4f / %.4f | %.2f | %.3f |\n", name.c_str(), label,
                   100 * (v - v0) / v0, d.mean, d.p95, roughness(after), triangle_quality(after).mean);
