@@ -11,61 +11,58 @@ namespace segmesh {
 
 namespace {
 
-struct RunLabel {
-  VoxelRun run;
-  int32_t label;
-};
-
-// Finds the runs of every row; `label_of(value)` gives a voxel's label (0 = not wanted).
+// Finds the runs of every row in one pass: rows are split into fixed chunks, each chunk collects
+// its runs on its own, and the chunks are joined in row order (so the result does not depend on the
+// thread count). `label_of(value)` gives a voxel's label (0 = not wanted).
 template <class T, class LabelOf>
-std::vector<RunLabel> find_runs(const Volume<T>& volume, LabelOf label_of, Progress& progress,
-                                std::vector<size_t>& row_first) {
+LabelRuns scan_runs(const Volume<T>& volume, LabelOf label_of, Progress& progress) {
   const auto& d = volume.grid.dims;
   const int64_t rows = d[1] * d[2];
-  // Rows are scanned twice (count, then fill) so the runs land in one array without locks.
-  auto scan_row = [&](int64_t row, auto&& emit) {
-    const T* v = volume.voxels.data() + static_cast<size_t>(row) * d[0];
-    T last_value = v[0];
-    int32_t last_label = label_of(v[0]);
-    int32_t start = 0;
-    for (int32_t x = 1; x <= d[0]; ++x) {
-      int32_t label = -1;
-      if (x < d[0]) {
-        if (v[x] != last_value) {
-          last_value = v[x];
-          label = label_of(v[x]);
-        } else {
-          label = last_label;
-        }
-        if (label == last_label) continue;
-      }
-      if (last_label != 0) emit(start, x, last_label);
-      start = x;
-      last_label = label;
-    }
-  };
-  std::vector<size_t> count(rows + 1, 0);
-  tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows, 256), [&](const auto& r) {
+  LabelRuns out;
+  out.dims = d;
+  out.row_first.assign(static_cast<size_t>(rows) + 1, 0);
+  if (rows == 0 || d[0] == 0) return out;
+  constexpr int64_t kChunk = 1024;
+  const int64_t chunks = (rows + kChunk - 1) / kChunk;
+  std::vector<std::vector<LabelRun>> found(static_cast<size_t>(chunks));
+  tbb::parallel_for(int64_t{0}, chunks, [&](int64_t c) {
     throw_if_cancelled(progress);
-    for (int64_t row = r.begin(); row < r.end(); ++row) {
-      size_t n = 0;
-      scan_row(row, [&](int32_t, int32_t, int32_t) { ++n; });
-      count[row + 1] = n;
-    }
-  });
-  std::partial_sum(count.begin(), count.end(), count.begin());
-  std::vector<RunLabel> runs(count.back());
-  tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows, 256), [&](const auto& r) {
-    for (int64_t row = r.begin(); row < r.end(); ++row) {
-      size_t at = count[row];
+    std::vector<LabelRun>& local = found[static_cast<size_t>(c)];
+    for (int64_t row = c * kChunk; row < std::min(rows, (c + 1) * kChunk); ++row) {
+      const T* v = volume.voxels.data() + static_cast<size_t>(row) * d[0];
       const int32_t y = static_cast<int32_t>(row % d[1]), z = static_cast<int32_t>(row / d[1]);
-      scan_row(row, [&](int32_t x0, int32_t x1, int32_t label) {
-        runs[at++] = {{x0, x1, y, z}, label};
-      });
+      T last_value = v[0];
+      int32_t last_label = label_of(v[0]);
+      int32_t start = 0;
+      for (int32_t x = 1; x <= d[0]; ++x) {
+        int32_t label = -1;
+        if (x < d[0]) {
+          if (v[x] != last_value) {
+            last_value = v[x];
+            label = label_of(v[x]);
+          } else {
+            label = last_label;
+          }
+          if (label == last_label) continue;
+        }
+        if (last_label != 0) local.push_back({{start, x, y, z}, last_label});
+        start = x;
+        last_label = label;
+      }
+      out.row_first[static_cast<size_t>(row) + 1] = local.size();  // within the chunk for now
     }
   });
-  row_first = std::move(count);
-  return runs;
+  // Chunk-local row ends to global row starts.
+  size_t total = 0;
+  for (int64_t c = 0; c < chunks; ++c) {
+    for (int64_t row = c * kChunk; row < std::min(rows, (c + 1) * kChunk); ++row) {
+      out.row_first[static_cast<size_t>(row) + 1] += total;
+    }
+    total += found[static_cast<size_t>(c)].size();
+  }
+  out.runs.reserve(total);
+  for (auto& local : found) out.runs.insert(out.runs.end(), local.begin(), local.end());
+  return out;
 }
 
 uint32_t find_root(std::vector<uint32_t>& parent, uint32_t v) {
@@ -76,8 +73,8 @@ uint32_t find_root(std::vector<uint32_t>& parent, uint32_t v) {
   return v;
 }
 
-Components join_runs(const std::vector<RunLabel>& runs, const std::vector<size_t>& row_first,
-                     const std::array<int64_t, 3>& dims, int connectivity) {
+Components join(const std::vector<LabelRun>& runs, const std::vector<size_t>& row_first,
+                const std::array<int64_t, 3>& dims, int connectivity) {
   if (connectivity != 6 && connectivity != 18 && connectivity != 26) {
     throw std::invalid_argument("connected components: connectivity must be 6, 18 or 26");
   }
@@ -173,27 +170,67 @@ Components join_runs(const std::vector<RunLabel>& runs, const std::vector<size_t
 
 }  // namespace
 
-Components find_components(const LabelVolume& volume, const ComponentOptions& options,
-                           Progress& progress) {
+LabelRuns find_label_runs(const LabelVolume& volume, Progress& progress) {
+  return scan_runs(volume, [](int32_t v) { return v; }, progress);
+}
+
+template <class T>
+LabelRuns find_runs_above(const Volume<T>& volume, double iso, Progress& progress) {
+  return scan_runs(volume, [iso](T v) -> int32_t { return static_cast<double>(v) >= iso ? 1 : 0; },
+                   progress);
+}
+
+template LabelRuns find_runs_above(const Volume<int32_t>&, double, Progress&);
+template LabelRuns find_runs_above(const Volume<float>&, double, Progress&);
+
+std::vector<LabelCount> count_run_labels(const LabelRuns& runs) {
+  std::vector<std::pair<int32_t, int64_t>> lengths;
+  lengths.reserve(runs.runs.size());
+  for (const LabelRun& r : runs.runs) lengths.push_back({r.label, r.run.x_end - r.run.x_begin});
+  std::sort(lengths.begin(), lengths.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<LabelCount> out;
+  int64_t foreground = 0;
+  for (const auto& [label, n] : lengths) {
+    if (out.empty() || out.back().label != label) out.push_back({label, 0});
+    out.back().voxels += n;
+    foreground += n;
+  }
+  const int64_t all = runs.dims[0] * runs.dims[1] * runs.dims[2];
+  if (all > foreground) {
+    out.insert(std::lower_bound(out.begin(), out.end(), 0,
+                                [](const LabelCount& c, int32_t l) { return c.label < l; }),
+               LabelCount{0, all - foreground});
+  }
+  return out;
+}
+
+Components join_runs(const LabelRuns& runs, const ComponentOptions& options) {
+  if (options.labels.empty()) return join(runs.runs, runs.row_first, runs.dims, options.connectivity);
   std::vector<int32_t> wanted = options.labels;
   std::sort(wanted.begin(), wanted.end());
-  auto label_of = [&](int32_t v) -> int32_t {
-    if (v == 0) return 0;
-    if (wanted.empty()) return v;
-    return std::binary_search(wanted.begin(), wanted.end(), v) ? v : 0;
-  };
-  std::vector<size_t> row_first;
-  const auto runs = find_runs(volume, label_of, progress, row_first);
-  return join_runs(runs, row_first, volume.grid.dims, options.connectivity);
+  std::vector<LabelRun> kept;
+  std::vector<size_t> row_first(runs.row_first.size(), 0);
+  for (size_t row = 0; row + 1 < runs.row_first.size(); ++row) {
+    for (size_t r = runs.row_first[row]; r < runs.row_first[row + 1]; ++r) {
+      if (std::binary_search(wanted.begin(), wanted.end(), runs.runs[r].label)) {
+        kept.push_back(runs.runs[r]);
+      }
+    }
+    row_first[row + 1] = kept.size();
+  }
+  return join(kept, row_first, runs.dims, options.connectivity);
+}
+
+Components find_components(const LabelVolume& volume, const ComponentOptions& options,
+                           Progress& progress) {
+  return join_runs(find_label_runs(volume, progress), options);
 }
 
 template <class T>
 Components find_components_above(const Volume<T>& volume, double iso, int connectivity,
                                  Progress& progress) {
-  auto label_of = [iso](T v) -> int32_t { return static_cast<double>(v) >= iso ? 1 : 0; };
-  std::vector<size_t> row_first;
-  const auto runs = find_runs(volume, label_of, progress, row_first);
-  return join_runs(runs, row_first, volume.grid.dims, connectivity);
+  return join_runs(find_runs_above(volume, iso, progress), {.connectivity = connectivity});
 }
 
 template Components find_components_above(const Volume<int32_t>&, double, int, Progress&);

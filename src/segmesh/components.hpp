@@ -16,6 +16,7 @@
 #include <span>
 #include <vector>
 
+#include "segmesh/label_stats.hpp"
 #include "segmesh/progress.hpp"
 #include "segmesh/volume.hpp"
 
@@ -44,12 +45,33 @@ struct Components {
   }
 };
 
+// The runs of every row (label > 0 only), in row order: rows [row_first[r], row_first[r + 1]).
+struct LabelRun {
+  VoxelRun run;
+  int32_t label = 0;
+};
+struct LabelRuns {
+  std::array<int64_t, 3> dims{};
+  std::vector<LabelRun> runs;
+  std::vector<size_t> row_first;  // rows + 1 entries
+};
+
 struct ComponentOptions {
   int connectivity = 26;         // 6, 18 or 26
   std::vector<int32_t> labels;   // labels to split; empty: every non-zero label
 };
 
-// Components of the labels of a label map.
+// The runs of every non-zero label: one parallel pass over the voxels.
+LabelRuns find_label_runs(const LabelVolume& volume, Progress& progress = null_progress());
+// The runs of the voxels whose value is >= iso, as label 1.
+template <class T>
+LabelRuns find_runs_above(const Volume<T>& volume, double iso, Progress& progress = null_progress());
+// Voxels per label (0 included, as everything not in a run), ascending, from the runs alone.
+std::vector<LabelCount> count_run_labels(const LabelRuns& runs);
+// Components of the runs' labels (options.labels selects; empty: all).
+Components join_runs(const LabelRuns& runs, const ComponentOptions& options);
+
+// Components of the labels of a label map (find_label_runs, then join_runs).
 Components find_components(const LabelVolume& volume, const ComponentOptions& options,
                            Progress& progress = null_progress());
 
@@ -58,6 +80,8 @@ template <class T>
 Components find_components_above(const Volume<T>& volume, double iso, int connectivity,
                                  Progress& progress = null_progress());
 
+extern template LabelRuns find_runs_above(const Volume<int32_t>&, double, Progress&);
+extern template LabelRuns find_runs_above(const Volume<float>&, double, Progress&);
 extern template Components find_components_above(const Volume<int32_t>&, double, int, Progress&);
 extern template Components find_components_above(const Volume<float>&, double, int, Progress&);
 

@@ -7,20 +7,24 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "segmesh/edge_intersection.hpp"
 #include "segmesh/error.hpp"
 #include "segmesh/marching_cubes_table.hpp"
+#include "segmesh/row_trim.hpp"
 
 namespace segmesh {
 
 namespace {
 
-// Vertex ids of the cut edges that start at the grid points of one z-plane.
+// Vertex ids of the cut edges that start at the grid points of one z-plane. Left uninitialised:
+// only entries of cut edges are ever written and read.
 struct PlaneIds {
-  std::vector<uint32_t> x, y, z;
-  explicit PlaneIds(size_t n) : x(n), y(n), z(n) {}
+  std::unique_ptr<uint32_t[]> x, y, z;
+  explicit PlaneIds(size_t n)
+      : x(new uint32_t[n]), y(new uint32_t[n]), z(new uint32_t[n]) {}
 };
 
 template <class T>
@@ -31,6 +35,7 @@ class Extractor {
         o_(options),
         table_(mc_table(options.connectivity)),
         progress_(progress),
+        inside_(options.iso),
         nx_(field.grid.dims[0]),
         ny_(field.grid.dims[1]),
         nz_(field.grid.dims[2]) {}
@@ -38,6 +43,7 @@ class Extractor {
   TriMesh run() {
     TriMesh mesh;
     if (nx_ < 2 || ny_ < 2 || nz_ < 2) return mesh;
+    rows_ = trim_rows(f_, inside_, progress_);
     count();
     const uint64_t vertices = vertex_first_.back();
     if (vertices > std::numeric_limits<uint32_t>::max()) {
@@ -53,29 +59,58 @@ class Extractor {
   }
 
  private:
-  bool inside(int64_t i, int64_t j, int64_t k) const {
-    return static_cast<double>(f_.voxels[f_.grid.index(i, j, k)]) >= o_.iso;
+  const T* row(int64_t j, int64_t k) const {
+    return f_.voxels.data() + static_cast<size_t>((k * ny_ + j) * nx_);
   }
+  const RowTrim& trim(int64_t j, int64_t k) const { return rows_[static_cast<size_t>(k * ny_ + j)]; }
 
-  int cell_case(int64_t i, int64_t j, int64_t k) const {
-    int cs = 0;
-    for (int c = 0; c < 8; ++c) {
-      const auto& o = kMcCornerOffset[c];
-      cs |= inside(i + o[0], j + o[1], k + o[2]) << c;
-    }
-    return cs;
-  }
-
-  // Calls visit(axis, i, j) for every cut edge starting in plane k, in vertex-id order.
+  // Calls visit(axis, i, j) for every cut edge starting in plane k, in vertex-id order (row by
+  // row, x ascending, x- then y- then z-edge), looking only where the trimmed rows say an edge
+  // can be cut.
   template <class Visit>
   void for_cut_edges(int64_t k, Visit&& visit) const {
     for (int64_t j = 0; j < ny_; ++j) {
-      for (int64_t i = 0; i < nx_; ++i) {
-        const bool in = inside(i, j, k);
-        if (i + 1 < nx_ && inside(i + 1, j, k) != in) visit(0, i, j);
-        if (j + 1 < ny_ && inside(i, j + 1, k) != in) visit(1, i, j);
-        if (k + 1 < nz_ && inside(i, j, k + 1) != in) visit(2, i, j);
+      const RowTrim& r = trim(j, k);
+      const bool has_y = j + 1 < ny_, has_z = k + 1 < nz_;
+      GridRange range = r.cut_range();
+      if (has_y) range = range.merge(pair_range(r, trim(j + 1, k), nx_));
+      if (has_z) range = range.merge(pair_range(r, trim(j, k + 1), nx_));
+      if (range.empty()) continue;
+      const T* a = row(j, k);
+      const T* ay = has_y ? row(j + 1, k) : nullptr;
+      const T* az = has_z ? row(j, k + 1) : nullptr;
+      for (int64_t i = range.lo; i < range.hi; ++i) {
+        const bool in = inside_(a[i]);
+        if (i + 1 < nx_ && inside_(a[i + 1]) != in) visit(0, i, j);
+        if (has_y && inside_(ay[i]) != in) visit(1, i, j);
+        if (has_z && inside_(az[i]) != in) visit(2, i, j);
       }
+    }
+  }
+
+  // Calls visit(i, case) for every non-trivial cell of slab k (cells between planes k, k + 1) in
+  // row j, x ascending. The case is built by sliding along x: the right face of one cell is the
+  // left face of the next.
+  template <class Visit>
+  void for_cells(int64_t j, int64_t k, Visit&& visit) const {
+    const GridRange range = quad_range(trim(j, k), trim(j + 1, k), trim(j, k + 1), trim(j + 1, k + 1), nx_);
+    if (range.empty()) return;
+    const T* r00 = row(j, k);
+    const T* r10 = row(j + 1, k);
+    const T* r01 = row(j, k + 1);
+    const T* r11 = row(j + 1, k + 1);
+    const int64_t first = std::max<int64_t>(range.lo - 1, 0);
+    const int64_t last = std::min<int64_t>(range.hi, nx_ - 1);  // cells [first, last)
+    auto face = [&](int64_t x) {  // bits of corners 0, 2, 4, 6 of the cell starting at x
+      return int(inside_(r00[x])) | int(inside_(r10[x])) << 2 | int(inside_(r01[x])) << 4 |
+             int(inside_(r11[x])) << 6;
+    };
+    int left = face(first);
+    for (int64_t i = first; i < last; ++i) {
+      const int right = face(i + 1);
+      const int cs = left | right << 1;
+      left = right;
+      if (cs != 0 && cs != 255) visit(i, cs);
     }
   }
 
@@ -90,7 +125,7 @@ class Extractor {
         uint64_t nt = 0;
         if (k + 1 < nz_) {
           for (int64_t j = 0; j + 1 < ny_; ++j) {
-            for (int64_t i = 0; i + 1 < nx_; ++i) nt += table_.triangle_count(cell_case(i, j, k));
+            for_cells(j, k, [&](int64_t, int cs) { nt += table_.triangle_count(cs); });
           }
         }
         triangles[k] = nt;
@@ -129,10 +164,7 @@ class Extractor {
     uint32_t* out = mesh.indices.data() + 3 * triangle_first_[k];
     const bool flip = f_.grid.mirrored();
     for (int64_t j = 0; j + 1 < ny_; ++j) {
-      for (int64_t i = 0; i + 1 < nx_; ++i) {
-        const int cs = cell_case(i, j, k);
-        const int n = table_.triangle_count(cs);
-        if (n == 0) continue;
+      for_cells(j, k, [&](int64_t i, int cs) {
         auto edge_id = [&](int e) -> uint32_t {
           const int b = e & 3;
           const int lo_bit = b & 1, hi_bit = b >> 1;
@@ -142,6 +174,7 @@ class Extractor {
             default: return lo.z[(j + hi_bit) * nx_ + i + lo_bit];
           }
         };
+        const int n = table_.triangle_count(cs);
         for (int t = 0; t < n; ++t) {
           const auto& tri = table_.triangles[table_.first[cs] + t];
           out[0] = edge_id(tri[0]);
@@ -149,14 +182,15 @@ class Extractor {
           out[2] = edge_id(flip ? tri[1] : tri[2]);
           out += 3;
         }
-      }
+      });
     }
   }
 
   void fill(TriMesh& mesh) {
     std::atomic<int64_t> planes_done{0};
     const size_t plane_size = static_cast<size_t>(nx_ * ny_);
-    tbb::parallel_for(tbb::blocked_range<int64_t>(0, nz_, 4), [&](const auto& r) {
+    // Ranges of at least 16 planes: each starts by renumbering one plane it does not own.
+    tbb::parallel_for(tbb::blocked_range<int64_t>(0, nz_, 16), [&](const auto& r) {
       throw_if_cancelled(progress_);
       PlaneIds lo(plane_size), hi(plane_size);
       number_plane(r.begin(), true, lo, mesh);
@@ -197,7 +231,9 @@ class Extractor {
   const McOptions& o_;
   const McTable& table_;
   Progress& progress_;
+  const InsideTest<T> inside_;
   const int64_t nx_, ny_, nz_;
+  std::vector<RowTrim> rows_;
   std::vector<uint64_t> vertex_first_;    // first vertex id of each z-plane's cut edges
   std::vector<uint64_t> triangle_first_;  // first triangle of each slab of cells
 };

@@ -63,7 +63,10 @@ void validate(const MeshingOptions& o) {
 // The components to mesh, checked against what the volume holds.
 Components label_components(const Image& image, const LabelVolume& labels,
                             const MeshingOptions& o, Progress& progress) {
-  const auto counts = count_labels(labels);
+  // One pass over the voxels finds every label's runs; the label counts and the components of the
+  // selected labels come from the runs.
+  const LabelRuns runs = find_label_runs(labels, progress);
+  const auto counts = count_run_labels(runs);
   const bool any_foreground =
       std::any_of(counts.begin(), counts.end(), [](const LabelCount& c) { return c.label != 0; });
   if (!any_foreground) {
@@ -83,7 +86,7 @@ Components label_components(const Image& image, const LabelVolume& labels,
                 " distinct values: this looks like a grey-value image, not a label map; give "
                 "--iso VALUE (for bone in CT about 200-300 HU) or choose labels with --labels");
   }
-  return find_components(labels, {.connectivity = o.connectivity, .labels = o.labels}, progress);
+  return join_runs(runs, {.connectivity = o.connectivity, .labels = o.labels});
 }
 
 template <class T>
