@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "segmesh/dual_contouring_table.hpp"
@@ -14,6 +15,7 @@
 #include "segmesh/error.hpp"
 #include "segmesh/marching_cubes_table.hpp"
 #include "segmesh/qef.hpp"
+#include "segmesh/row_trim.hpp"
 #include "segmesh/dual_contouring_simplify.hpp"
 #include "segmesh/quality.hpp"
 
@@ -134,57 +136,66 @@ class Extractor {
     emit_vertices(mesh);
     emit_triangles(mesh);
     if (o_.tolerance_mm > 0) {
-      const std::vector<uint32_t> first = cell_first_vertex();
-      const DcCells cells{{cx_, cy_, cz_}, &cases_, &first, &qefs_,
-                          [this](int64_t i, int64_t j, int64_t k) { return inside(i, j, k); }};
+      DcCells cells{{cx_, cy_, cz_}, surface_cells(), &qefs_,
+                    [this](int64_t i, int64_t j, int64_t k) { return inside(i, j, k); }};
       mesh = simplify_dual_contour(std::move(mesh), cells, f_.grid, o_);
     }
     return mesh;
   }
 
  private:
-  bool inside(int64_t i, int64_t j, int64_t k) const {
-    return static_cast<double>(f_.voxels[f_.grid.index(i, j, k)]) >= o_.iso;
-  }
-  size_t cell_index(int64_t i, int64_t j, int64_t k) const {
-    return static_cast<size_t>((k * cy_ + j) * cx_ + i);
+  bool inside(int64_t i, int64_t j, int64_t k) const { return scan_->inside(i, j, k); }
+  size_t cell_row(int64_t j, int64_t k) const { return static_cast<size_t>(k * cy_ + j); }
+  // The case of cell (i, j, k): stored only inside each row's trimmed range, 0 elsewhere (no
+  // sheets, like 255).
+  uint8_t cell_case(int64_t i, int64_t j, int64_t k) const {
+    const size_t row = cell_row(j, k);
+    const GridRange& r = case_range_[row];
+    return i >= r.lo && i < r.hi ? cases_[case_offset_[row] + size_t(i - r.lo)] : uint8_t{0};
   }
 
+  // Cases of the cells that may hold surface (row trimming), stored row by row for the trimmed
+  // ranges only: no volume-sized array.
   void classify_cells() {
-    cases_.assign(static_cast<size_t>(cx_ * cy_ * cz_), 0);
+    scan_.emplace(f_, InsideTest<T>(o_.iso), progress_);
+    const size_t rows = static_cast<size_t>(cy_ * cz_);
+    case_range_.resize(rows);
+    case_offset_.assign(rows + 1, 0);
+    for (int64_t k = 0; k < cz_; ++k)
+      for (int64_t j = 0; j < cy_; ++j) case_range_[cell_row(j, k)] = scan_->cell_range(j, k);
+    for (size_t r = 0; r < rows; ++r) {
+      const GridRange& g = case_range_[r];
+      case_offset_[r + 1] = case_offset_[r] + (g.empty() ? 0 : size_t(g.hi - g.lo));
+    }
+    cases_.assign(case_offset_.back(), 0);
     tbb::parallel_for(tbb::blocked_range<int64_t>(0, cz_), [&](const auto& r) {
       throw_if_cancelled(progress_);
       for (int64_t k = r.begin(); k < r.end(); ++k)
-        for (int64_t j = 0; j < cy_; ++j)
-          for (int64_t i = 0; i < cx_; ++i) {
-            int cs = 0;
-            for (int c = 0; c < 8; ++c) {
-              const auto& o = kMcCornerOffset[c];
-              cs |= inside(i + o[0], j + o[1], k + o[2]) << c;
-            }
-            cases_[cell_index(i, j, k)] = static_cast<uint8_t>(cs);
-          }
+        for (int64_t j = 0; j < cy_; ++j) {
+          const size_t row = cell_row(j, k);
+          const int64_t lo = case_range_[row].lo;
+          scan_->cells(j, k, [&](int64_t i, int cs) {
+            cases_[case_offset_[row] + size_t(i - lo)] = uint8_t(cs);
+          });
+        }
     });
   }
 
-  // Calls visit(axis, i, j) for every sign-changing edge starting at a grid point of plane k.
+  // Calls visit(i, DcCase) for the cells of row j of slab k that may hold sheets.
   template <class Visit>
-  void for_cut_edges(int64_t k, Visit&& visit) const {
-    for (int64_t j = 0; j < ny_; ++j) {
-      for (int64_t i = 0; i < nx_; ++i) {
-        const bool in = inside(i, j, k);
-        if (i + 1 < nx_ && inside(i + 1, j, k) != in) visit(0, i, j);
-        if (j + 1 < ny_ && inside(i, j + 1, k) != in) visit(1, i, j);
-        if (k + 1 < nz_ && inside(i, j, k + 1) != in) visit(2, i, j);
-      }
-    }
+  void for_row_cells(int64_t j, int64_t k, Visit&& visit) const {
+    const size_t row = cell_row(j, k);
+    const GridRange& range = case_range_[row];
+    const uint8_t* cs = cases_.data() + case_offset_[row];
+    for (int64_t i = range.lo; i < range.hi; ++i) visit(i, table_.cases[cs[i - range.lo]]);
   }
 
   // The polygon of the sheets around an edge; n = 0 when a cell around it lies outside the field
   // (the field's outer layer must be background, so such an edge is never cut).
   // `first_vertex(cell index)` gives the first vertex id of a cell.
   template <class FirstVertex>
-  Polygon polygon(int axis, int64_t i, int64_t j, int64_t k, FirstVertex&& first_vertex) const {
+  Polygon polygon(int axis, int64_t i, int64_t j, int64_t k, FirstVertex&& first_vertex,
+                  bool ids_needed = true) const {
     Polygon p;
     const int u = (axis + 1) % 3, v = (axis + 2) % 3;
     const int64_t cells[3] = {cx_, cy_, cz_};
@@ -195,8 +206,8 @@ class Extractor {
       for (int a = 0; a < 3; ++a) {
         if (c[a] < 0 || c[a] >= cells[a]) return Polygon{};
       }
-      const size_t cell = cell_index(c[0], c[1], c[2]);
-      const DcCase& dc = table_.cases[cases_[cell]];
+      const size_t cell = static_cast<size_t>((c[2] * cy_ + c[1]) * cx_ + c[0]);
+      const DcCase& dc = table_.cases[cell_case(c[0], c[1], c[2])];
       const int e = local_edge(axis, -kQuadrantDu[q], -kQuadrantDv[q]);
       const int count = dc.around_count[e];
       const uint32_t first = first_vertex(cell, c[2]);
@@ -206,6 +217,7 @@ class Extractor {
         p.quadrant[p.n++] = q;
       }
     }
+    if (!ids_needed) return p;  // counting: the size and cells are all that matter
     // Counter-clockwise around +axis faces +axis: right when the inside is at the edge's start.
     // A mirrored grid flips every winding once more.
     if (inside(i, j, k) == f_.grid.mirrored()) {
@@ -218,27 +230,30 @@ class Extractor {
   // Triangles (and centroid vertices, 0 or 1) the polygon of an edge becomes.
   static std::pair<uint64_t, uint64_t> polygon_cost(const Polygon& p) {
     if (p.n == 0) return {0, 0};
+    if (p.n == 4) return {2, 0};
     if (triangulable(p)) return {uint64_t(p.n - 2), 0};
     return {uint64_t(p.n), 1};
   }
 
   void count() {
-    std::vector<uint64_t> slab_vertices(cz_, 0), triangles(nz_, 0), extra(nz_, 0);
+    std::vector<uint64_t> slab_vertices(cz_, 0), triangles(nz_, 0), extra(nz_, 0), edges(nz_, 0);
     tbb::parallel_for(tbb::blocked_range<int64_t>(0, nz_), [&](const auto& r) {
       throw_if_cancelled(progress_);
       for (int64_t k = r.begin(); k < r.end(); ++k) {
         if (k < cz_) {
           uint64_t n = 0;
           for (int64_t j = 0; j < cy_; ++j)
-            for (int64_t i = 0; i < cx_; ++i) n += table_.cases[cases_[cell_index(i, j, k)]].piece_count;
+            for_row_cells(j, k, [&](int64_t, const DcCase& dc) { n += dc.piece_count; });
           slab_vertices[k] = n;
         }
         // Polygon sizes depend on the cells' cases only; the vertex ids do not matter here.
         uint64_t nt = 0, ne = 0;
-        for_cut_edges(k, [&](int axis, int64_t i, int64_t j) {
-          const auto [t, e] = polygon_cost(polygon(axis, i, j, k, [](size_t, int64_t) { return 0u; }));
+        scan_->cut_edges(k, [&](int axis, int64_t i, int64_t j) {
+          const auto [t, e] = polygon_cost(polygon(axis, i, j, k, [](size_t, int64_t) { return 0u; },
+                                                   /*ids_needed=*/false));
           nt += t;
           ne += e;
+          ++edges[k];
         });
         triangles[k] = nt;
         extra[k] = ne;
@@ -248,21 +263,24 @@ class Extractor {
     for (int64_t k = 0; k < cz_; ++k) slab_vertex_first_[k + 1] = slab_vertex_first_[k] + slab_vertices[k];
     plane_triangle_first_.assign(nz_ + 1, 0);
     plane_extra_first_.assign(nz_ + 1, 0);
+    edge_first_.assign(nz_ + 1, 0);
+    for (int64_t k = 0; k < nz_; ++k) edge_first_[k + 1] = edge_first_[k] + edges[k];
     for (int64_t k = 0; k < nz_; ++k) {
       plane_triangle_first_[k + 1] = plane_triangle_first_[k] + triangles[k];
       plane_extra_first_[k + 1] = plane_extra_first_[k] + extra[k];
     }
   }
 
-  // First vertex id of every cell of slab k.
+  // First vertex id of every cell of slab k that may hold sheets (no other cell is ever looked up).
   void number_slab(int64_t k, std::vector<uint32_t>& first) const {
     if (k < 0 || k >= cz_) return;
     uint32_t id = static_cast<uint32_t>(slab_vertex_first_[k]);
-    for (int64_t j = 0; j < cy_; ++j)
-      for (int64_t i = 0; i < cx_; ++i) {
+    for (int64_t j = 0; j < cy_; ++j) {
+      for_row_cells(j, k, [&](int64_t i, const DcCase& dc) {
         first[j * cx_ + i] = id;
-        id += table_.cases[cases_[cell_index(i, j, k)]].piece_count;
-      }
+        id += dc.piece_count;
+      });
+    }
   }
 
   // Keeps a QEF solution x inside its cell, shrunk by kDcCellMargin so that vertices of
@@ -285,30 +303,50 @@ class Extractor {
   }
 
   // The QEF vertex of one sheet of cell (i, j, k).
+  // The Hermite data of every sign-changing edge, once (a cut edge belongs to up to four cells),
+  // in the order TrimmedScan::number_plane gives the edges ids.
+  struct Hermite {
+    Vec3f point;   // index space
+    Vec3f normal;  // unit, outwards, in physical space before the grid's rotation
+  };
+
+  void compute_hermite() {
+    hermite_.resize(edge_first_.back());
+    const auto& s = f_.grid.spacing;
+    tbb::parallel_for(tbb::blocked_range<int64_t>(0, nz_), [&](const auto& r) {
+      throw_if_cancelled(progress_);
+      for (int64_t k = r.begin(); k < r.end(); ++k) {
+        size_t id = edge_first_[k];
+        scan_->cut_edges(k, [&](int axis, int64_t i, int64_t j) {
+          const EdgeCrossing c = edge_crossing(f_, i, j, k, axis, o_.iso, o_.normals);
+          Vec3d n{-c.index_gradient.x / s[0], -c.index_gradient.y / s[1], -c.index_gradient.z / s[2]};
+          double len = norm(n);
+          if (!(len > 0)) {  // no gradient: the edge itself, pointing from inside to outside
+            n = {double(axis == 0), double(axis == 1), double(axis == 2)};
+            if (!inside(i, j, k)) n = -1.0 * n;
+            len = 1;
+          }
+          hermite_[id++] = {to_float(c.index_point), to_float((1.0 / len) * n)};
+        });
+      }
+    });
+  }
+
+  // The QEF vertex of one sheet of cell (i, j, k); edge_id(e) gives the id of cell edge e.
+  template <class EdgeId>
   void emit_piece(int64_t i, int64_t j, int64_t k, const DcCase& dc, int piece, uint32_t id,
-                  TriMesh& mesh) {
+                  EdgeId&& edge_id, TriMesh& mesh) {
     const auto& s = f_.grid.spacing;
     Qef qef;
     Vec3d normal_sum{};
     Vec3d lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
     for (int t = 0; t < dc.piece_edge_count[piece]; ++t) {
-      const int e = dc.piece_edges[piece][t];
-      const auto& c0 = kMcCornerOffset[kMcEdgeCorner[e][0]];
-      const int64_t gi = i + c0[0], gj = j + c0[1], gk = k + c0[2];
-      const int axis = e >> 2;
-      const EdgeCrossing c = edge_crossing(f_, gi, gj, gk, axis, o_.iso, o_.normals);
+      const Hermite& h = hermite_[edge_id(dc.piece_edges[piece][t])];
       // Physical millimetres relative to the cell's first corner, before the grid's rotation:
       // distances there are true distances, and the numbers stay small.
-      const Vec3d p{(c.index_point.x - i) * s[0], (c.index_point.y - j) * s[1],
-                    (c.index_point.z - k) * s[2]};
-      Vec3d n{-c.index_gradient.x / s[0], -c.index_gradient.y / s[1], -c.index_gradient.z / s[2]};
-      double len = norm(n);
-      if (!(len > 0)) {  // no gradient: the edge itself, pointing from inside to outside
-        n = {double(axis == 0), double(axis == 1), double(axis == 2)};
-        if (!inside(gi, gj, gk)) n = -1.0 * n;
-        len = 1;
-      }
-      n = (1.0 / len) * n;
+      const Vec3d p{(h.point.x - double(i)) * s[0], (h.point.y - double(j)) * s[1],
+                    (h.point.z - double(k)) * s[2]};
+      const Vec3d n = to_double(h.normal);
       qef.add(p, n);
       normal_sum = normal_sum + n;
       lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
@@ -328,18 +366,29 @@ class Extractor {
   }
 
   void emit_vertices(TriMesh& mesh) {
-    tbb::parallel_for(tbb::blocked_range<int64_t>(0, cz_), [&](const auto& r) {
+    compute_hermite();
+    const size_t plane = static_cast<size_t>(nx_ * ny_);
+    tbb::parallel_for(tbb::blocked_range<int64_t>(0, cz_, 16), [&](const auto& r) {
       throw_if_cancelled(progress_);
+      PlaneEdgeIds lo(plane), hi(plane);
+      auto no_op = [](int, int64_t, int64_t, uint32_t) {};
+      scan_->number_plane(r.begin(), uint32_t(edge_first_[r.begin()]), lo, no_op);
       for (int64_t k = r.begin(); k < r.end(); ++k) {
+        scan_->number_plane(k + 1, uint32_t(edge_first_[k + 1]), hi, no_op);
         uint32_t id = static_cast<uint32_t>(slab_vertex_first_[k]);
-        for (int64_t j = 0; j < cy_; ++j)
-          for (int64_t i = 0; i < cx_; ++i) {
-            const DcCase& dc = table_.cases[cases_[cell_index(i, j, k)]];
-            for (int piece = 0; piece < dc.piece_count; ++piece) emit_piece(i, j, k, dc, piece, id++, mesh);
-          }
+        for (int64_t j = 0; j < cy_; ++j) {
+          for_row_cells(j, k, [&](int64_t i, const DcCase& dc) {
+            auto edge_id = [&](int e) { return cell_edge_id(lo, hi, e, i, j, nx_); };
+            for (int piece = 0; piece < dc.piece_count; ++piece) {
+              emit_piece(i, j, k, dc, piece, id++, edge_id, mesh);
+            }
+          });
+        }
+        std::swap(lo, hi);
       }
       progress_.update(0.5 * double(r.end()) / double(cz_));
     });
+    hermite_ = {};
   }
 
   void emit_triangles(TriMesh& mesh) {
@@ -357,15 +406,19 @@ class Extractor {
           const size_t in_slab = cell - static_cast<size_t>(ck) * slab;
           return ck == k ? above[in_slab] : below[in_slab];
         };
-        for_cut_edges(k, [&](int axis, int64_t i, int64_t j) {
+        scan_->cut_edges(k, [&](int axis, int64_t i, int64_t j) {
           const Polygon p = polygon(axis, i, j, k, first_vertex);
           if (p.n == 0) return;
           auto pos = [&](int a) { return to_double(mesh.positions[p.vertex[a]]); };
           auto rho = [&](int a, int b, int c) { return radii_ratio(pos(a), pos(b), pos(c)); };
           if (p.n == 4) {
-            // The diagonal that gives the better pair of triangles.
-            const double d02 = std::min(rho(0, 1, 2), rho(0, 2, 3));
-            const double d13 = std::min(rho(1, 2, 3), rho(1, 3, 0));
+            // The diagonal that gives the better pair of triangles (the higher worst radii
+            // ratio), from the six edge lengths of the quad.
+            const Vec3d v[4] = {pos(0), pos(1), pos(2), pos(3)};
+            const double s01 = norm(v[1] - v[0]), s12 = norm(v[2] - v[1]), s23 = norm(v[3] - v[2]),
+                         s30 = norm(v[0] - v[3]), d02l = norm(v[2] - v[0]), d13l = norm(v[3] - v[1]);
+            const double d02 = std::min(radii_ratio_of_sides(s01, s12, d02l), radii_ratio_of_sides(d02l, s23, s30));
+            const double d13 = std::min(radii_ratio_of_sides(s12, s23, d13l), radii_ratio_of_sides(d13l, s30, s01));
             const int s0 = d13 > d02 + 1e-12 ? 1 : 0;
             const int q[4] = {s0, s0 + 1, s0 + 2, (s0 + 3) % 4};
             const uint32_t a = p.vertex[q[0]], b = p.vertex[q[1]], c = p.vertex[q[2]], d = p.vertex[q[3]];
@@ -400,16 +453,20 @@ class Extractor {
     });
   }
 
-  // First vertex id per cell (for the simplification), in one array.
-  std::vector<uint32_t> cell_first_vertex() const {
-    std::vector<uint32_t> first(cases_.size());
-    const size_t slab = static_cast<size_t>(cx_ * cy_);
-    tbb::parallel_for(int64_t{0}, cz_, [&](int64_t k) {
-      std::vector<uint32_t> ids(slab);
-      number_slab(k, ids);
-      std::copy(ids.begin(), ids.end(), first.begin() + static_cast<ptrdiff_t>(k * slab));
-    });
-    return first;
+  // The cells with sheets and their first vertex (for the simplification), in vertex order.
+  std::vector<SurfaceCell> surface_cells() const {
+    std::vector<SurfaceCell> out;
+    for (int64_t k = 0; k < cz_; ++k) {
+      uint32_t id = static_cast<uint32_t>(slab_vertex_first_[k]);
+      for (int64_t j = 0; j < cy_; ++j) {
+        for_row_cells(j, k, [&](int64_t i, const DcCase& dc) {
+          if (dc.piece_count == 0) return;
+          out.push_back({int32_t(i), int32_t(j), int32_t(k), cell_case(i, j, k), id});
+          id += dc.piece_count;
+        });
+      }
+    }
+    return out;
   }
 
   const Volume<T>& f_;
@@ -417,11 +474,16 @@ class Extractor {
   const DcTable& table_;
   Progress& progress_;
   const int64_t nx_, ny_, nz_, cx_, cy_, cz_;
+  std::optional<TrimmedScan<T>> scan_;
+  std::vector<GridRange> case_range_;  // per row of cells: the trimmed range
+  std::vector<size_t> case_offset_;    // per row of cells: where its cases start in cases_
   std::vector<uint8_t> cases_;
   std::vector<uint64_t> slab_vertex_first_;
   std::vector<uint64_t> plane_triangle_first_;
   std::vector<uint64_t> plane_extra_first_;
   std::vector<Qef> qefs_;  // per sheet vertex, kept only for the simplification
+  std::vector<uint64_t> edge_first_;  // first id of each plane's cut edges
+  std::vector<Hermite> hermite_;      // per cut edge, while vertices are made
 };
 
 }  // namespace

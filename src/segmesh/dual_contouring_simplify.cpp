@@ -45,6 +45,7 @@ struct Node {
   Vec3d normal_sum;
   Vec3d position;   // the collapsed vertex, node frame (valid when collapsible, level >= 1)
   int64_t rep = -1;  // vertex id of the highest collapsed ancestor (or itself)
+  uint32_t first_vertex = 0;  // level 0: the cell's first sheet vertex
 };
 
 // Ju et al.'s topology-safety test and the single-sheet test for the node of `size` cells at
@@ -86,28 +87,22 @@ bool topology_safe(const DcCells& cells, const DcTable& table, std::array<int64_
 TriMesh simplify_dual_contour(TriMesh mesh, const DcCells& cells, const Grid& grid,
                               const DcOptions& o) {
   const DcTable& table = dc_table(o.connectivity);
-  const auto& cases = *cells.cases;
-  const auto& first = *cells.first_vertex;
   const auto& s = grid.spacing;
-  const int64_t cx = cells.cells[0], cy = cells.cells[1], cz = cells.cells[2];
 
   // Level 0: the cells the surface crosses.
   std::vector<std::vector<Node>> levels(1);
-  for (int64_t k = 0; k < cz; ++k)
-    for (int64_t j = 0; j < cy; ++j)
-      for (int64_t i = 0; i < cx; ++i) {
-        const size_t cell = static_cast<size_t>((k * cy + j) * cx + i);
-        const int pieces = table.cases[cases[cell]].piece_count;
-        if (pieces == 0) continue;
-        Node n;
-        n.key = morton(i, j, k);
-        n.collapsible = pieces == 1;
-        if (pieces == 1) {
-          n.qef = (*cells.qefs)[first[cell]];
-          n.normal_sum = to_double(mesh.normals[first[cell]]);
-        }
-        levels[0].push_back(n);
-      }
+  for (const SurfaceCell& c : cells.surface) {
+    const int pieces = table.cases[c.cs].piece_count;
+    Node n;
+    n.key = morton(c.i, c.j, c.k);
+    n.collapsible = pieces == 1;
+    n.first_vertex = c.first_vertex;
+    if (pieces == 1) {
+      n.qef = (*cells.qefs)[c.first_vertex];
+      n.normal_sum = to_double(mesh.normals[c.first_vertex]);
+    }
+    levels[0].push_back(n);
+  }
   std::sort(levels[0].begin(), levels[0].end(),
             [](const Node& a, const Node& b) { return a.key < b.key; });
 
@@ -193,8 +188,7 @@ TriMesh simplify_dual_contour(TriMesh mesh, const DcCells& cells, const Grid& gr
     const auto it = std::lower_bound(level1.begin(), level1.end(), cell.key >> 3,
                                      [](const Node& x, uint64_t key) { return x.key < key; });
     if (it == level1.end() || it->key != (cell.key >> 3) || it->rep < 0) continue;
-    const auto c = unmorton(cell.key);
-    map[first[static_cast<size_t>((c[2] * cy + c[1]) * cx + c[0])]] = static_cast<uint32_t>(it->rep);
+    map[cell.first_vertex] = static_cast<uint32_t>(it->rep);
   }
   mesh.positions.insert(mesh.positions.end(), new_positions.begin(), new_positions.end());
   mesh.normals.insert(mesh.normals.end(), new_normals.begin(), new_normals.end());

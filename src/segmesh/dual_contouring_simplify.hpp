@@ -26,12 +26,18 @@
 
 namespace segmesh {
 
+// A cell the surface crosses: its position, Marching Cubes case and first sheet vertex.
+struct SurfaceCell {
+  int32_t i = 0, j = 0, k = 0;
+  uint8_t cs = 0;
+  uint32_t first_vertex = 0;
+};
+
 // What simplification needs to know about the uniform Dual Contouring result.
 struct DcCells {
-  std::array<int64_t, 3> cells{};            // cells per axis (grid points - 1)
-  const std::vector<uint8_t>* cases;          // Marching Cubes case per cell
-  const std::vector<uint32_t>* first_vertex;  // first vertex id per cell
-  const std::vector<Qef>* qefs;               // per sheet vertex, in its cell's local frame (mm)
+  std::array<int64_t, 3> cells{};             // cells per axis (grid points - 1)
+  std::vector<SurfaceCell> surface;           // every cell with at least one sheet
+  const std::vector<Qef>* qefs = nullptr;     // per sheet vertex, in its cell's local frame (mm)
   std::function<bool(int64_t, int64_t, int64_t)> inside;  // sign at a grid point
 };
 

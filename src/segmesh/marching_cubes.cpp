@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "segmesh/edge_intersection.hpp"
@@ -19,14 +20,6 @@ namespace segmesh {
 
 namespace {
 
-// Vertex ids of the cut edges that start at the grid points of one z-plane. Left uninitialised:
-// only entries of cut edges are ever written and read.
-struct PlaneIds {
-  std::unique_ptr<uint32_t[]> x, y, z;
-  explicit PlaneIds(size_t n)
-      : x(new uint32_t[n]), y(new uint32_t[n]), z(new uint32_t[n]) {}
-};
-
 template <class T>
 class Extractor {
  public:
@@ -35,7 +28,6 @@ class Extractor {
         o_(options),
         table_(mc_table(options.connectivity)),
         progress_(progress),
-        inside_(options.iso),
         nx_(field.grid.dims[0]),
         ny_(field.grid.dims[1]),
         nz_(field.grid.dims[2]) {}
@@ -43,7 +35,7 @@ class Extractor {
   TriMesh run() {
     TriMesh mesh;
     if (nx_ < 2 || ny_ < 2 || nz_ < 2) return mesh;
-    rows_ = trim_rows(f_, inside_, progress_);
+    scan_.emplace(f_, InsideTest<T>(o_.iso), progress_);
     count();
     const uint64_t vertices = vertex_first_.back();
     if (vertices > std::numeric_limits<uint32_t>::max()) {
@@ -59,73 +51,18 @@ class Extractor {
   }
 
  private:
-  const T* row(int64_t j, int64_t k) const {
-    return f_.voxels.data() + static_cast<size_t>((k * ny_ + j) * nx_);
-  }
-  const RowTrim& trim(int64_t j, int64_t k) const { return rows_[static_cast<size_t>(k * ny_ + j)]; }
-
-  // Calls visit(axis, i, j) for every cut edge starting in plane k, in vertex-id order (row by
-  // row, x ascending, x- then y- then z-edge), looking only where the trimmed rows say an edge
-  // can be cut.
-  template <class Visit>
-  void for_cut_edges(int64_t k, Visit&& visit) const {
-    for (int64_t j = 0; j < ny_; ++j) {
-      const RowTrim& r = trim(j, k);
-      const bool has_y = j + 1 < ny_, has_z = k + 1 < nz_;
-      GridRange range = r.cut_range();
-      if (has_y) range = range.merge(pair_range(r, trim(j + 1, k), nx_));
-      if (has_z) range = range.merge(pair_range(r, trim(j, k + 1), nx_));
-      if (range.empty()) continue;
-      const T* a = row(j, k);
-      const T* ay = has_y ? row(j + 1, k) : nullptr;
-      const T* az = has_z ? row(j, k + 1) : nullptr;
-      for (int64_t i = range.lo; i < range.hi; ++i) {
-        const bool in = inside_(a[i]);
-        if (i + 1 < nx_ && inside_(a[i + 1]) != in) visit(0, i, j);
-        if (has_y && inside_(ay[i]) != in) visit(1, i, j);
-        if (has_z && inside_(az[i]) != in) visit(2, i, j);
-      }
-    }
-  }
-
-  // Calls visit(i, case) for every non-trivial cell of slab k (cells between planes k, k + 1) in
-  // row j, x ascending. The case is built by sliding along x: the right face of one cell is the
-  // left face of the next.
-  template <class Visit>
-  void for_cells(int64_t j, int64_t k, Visit&& visit) const {
-    const GridRange range = quad_range(trim(j, k), trim(j + 1, k), trim(j, k + 1), trim(j + 1, k + 1), nx_);
-    if (range.empty()) return;
-    const T* r00 = row(j, k);
-    const T* r10 = row(j + 1, k);
-    const T* r01 = row(j, k + 1);
-    const T* r11 = row(j + 1, k + 1);
-    const int64_t first = std::max<int64_t>(range.lo - 1, 0);
-    const int64_t last = std::min<int64_t>(range.hi, nx_ - 1);  // cells [first, last)
-    auto face = [&](int64_t x) {  // bits of corners 0, 2, 4, 6 of the cell starting at x
-      return int(inside_(r00[x])) | int(inside_(r10[x])) << 2 | int(inside_(r01[x])) << 4 |
-             int(inside_(r11[x])) << 6;
-    };
-    int left = face(first);
-    for (int64_t i = first; i < last; ++i) {
-      const int right = face(i + 1);
-      const int cs = left | right << 1;
-      left = right;
-      if (cs != 0 && cs != 255) visit(i, cs);
-    }
-  }
-
   void count() {
     std::vector<uint64_t> vertices(nz_), triangles(nz_);
     tbb::parallel_for(tbb::blocked_range<int64_t>(0, nz_), [&](const auto& r) {
       throw_if_cancelled(progress_);
       for (int64_t k = r.begin(); k < r.end(); ++k) {
         uint64_t nv = 0;
-        for_cut_edges(k, [&](int, int64_t, int64_t) { ++nv; });
+        scan_->cut_edges(k, [&](int, int64_t, int64_t) { ++nv; });
         vertices[k] = nv;
         uint64_t nt = 0;
         if (k + 1 < nz_) {
           for (int64_t j = 0; j + 1 < ny_; ++j) {
-            for_cells(j, k, [&](int64_t, int cs) { nt += table_.triangle_count(cs); });
+            scan_->cells(j, k, [&](int64_t, int cs) { nt += table_.triangle_count(cs); });
           }
         }
         triangles[k] = nt;
@@ -140,14 +77,11 @@ class Extractor {
   }
 
   // Assigns ids to the cut edges of plane k; with `emit`, also computes their vertices.
-  void number_plane(int64_t k, bool emit, PlaneIds& ids, TriMesh& mesh) const {
-    uint32_t id = static_cast<uint32_t>(vertex_first_[k]);
-    for_cut_edges(k, [&](int axis, int64_t i, int64_t j) {
-      const size_t at = static_cast<size_t>(j * nx_ + i);
-      (axis == 0 ? ids.x : axis == 1 ? ids.y : ids.z)[at] = id;
-      if (emit) emit_vertex(axis, i, j, k, id, mesh);
-      ++id;
-    });
+  void number_plane(int64_t k, bool emit, PlaneEdgeIds& ids, TriMesh& mesh) const {
+    scan_->number_plane(k, static_cast<uint32_t>(vertex_first_[k]), ids,
+                        [&](int axis, int64_t i, int64_t j, uint32_t id) {
+                          if (emit) emit_vertex(axis, i, j, k, id, mesh);
+                        });
   }
 
   void emit_vertex(int axis, int64_t i, int64_t j, int64_t k, uint32_t id, TriMesh& mesh) const {
@@ -160,20 +94,12 @@ class Extractor {
     mesh.normals[id] = len > 0 ? to_float((-1.0 / len) * g) : Vec3f{0, 0, 0};
   }
 
-  void emit_triangles(int64_t k, const PlaneIds& lo, const PlaneIds& hi, TriMesh& mesh) const {
+  void emit_triangles(int64_t k, const PlaneEdgeIds& lo, const PlaneEdgeIds& hi, TriMesh& mesh) const {
     uint32_t* out = mesh.indices.data() + 3 * triangle_first_[k];
     const bool flip = f_.grid.mirrored();
     for (int64_t j = 0; j + 1 < ny_; ++j) {
-      for_cells(j, k, [&](int64_t i, int cs) {
-        auto edge_id = [&](int e) -> uint32_t {
-          const int b = e & 3;
-          const int lo_bit = b & 1, hi_bit = b >> 1;
-          switch (e >> 2) {
-            case 0: return (hi_bit ? hi : lo).x[(j + lo_bit) * nx_ + i];
-            case 1: return (hi_bit ? hi : lo).y[j * nx_ + i + lo_bit];
-            default: return lo.z[(j + hi_bit) * nx_ + i + lo_bit];
-          }
-        };
+      scan_->cells(j, k, [&](int64_t i, int cs) {
+        auto edge_id = [&](int e) { return cell_edge_id(lo, hi, e, i, j, nx_); };
         const int n = table_.triangle_count(cs);
         for (int t = 0; t < n; ++t) {
           const auto& tri = table_.triangles[table_.first[cs] + t];
@@ -192,7 +118,7 @@ class Extractor {
     // Ranges of at least 16 planes: each starts by renumbering one plane it does not own.
     tbb::parallel_for(tbb::blocked_range<int64_t>(0, nz_, 16), [&](const auto& r) {
       throw_if_cancelled(progress_);
-      PlaneIds lo(plane_size), hi(plane_size);
+      PlaneEdgeIds lo(plane_size), hi(plane_size);
       number_plane(r.begin(), true, lo, mesh);
       for (int64_t k = r.begin(); k < r.end(); ++k) {
         if (k + 1 < nz_) {
@@ -231,9 +157,8 @@ class Extractor {
   const McOptions& o_;
   const McTable& table_;
   Progress& progress_;
-  const InsideTest<T> inside_;
   const int64_t nx_, ny_, nz_;
-  std::vector<RowTrim> rows_;
+  std::optional<TrimmedScan<T>> scan_;
   std::vector<uint64_t> vertex_first_;    // first vertex id of each z-plane's cut edges
   std::vector<uint64_t> triangle_first_;  // first triangle of each slab of cells
 };

@@ -29,7 +29,10 @@ int histogram_bin(double rho) {
 }  // namespace
 
 double radii_ratio(Vec3d p, Vec3d q, Vec3d r) {
-  double a = norm(q - r), b = norm(r - p), c = norm(p - q);
+  return radii_ratio_of_sides(norm(q - r), norm(r - p), norm(p - q));
+}
+
+double radii_ratio_of_sides(double a, double b, double c) {
   if (a < b) std::swap(a, b);
   if (b < c) std::swap(b, c);
   if (a < b) std::swap(a, b);

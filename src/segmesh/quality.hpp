@@ -30,6 +30,8 @@ namespace segmesh {
 // rho of the triangle (a, b, c), in [0, 1]; 0 when an edge has zero length or the corners are
 // collinear.
 double radii_ratio(Vec3d a, Vec3d b, Vec3d c);
+// The same from the three side lengths (for callers that share sides between triangles).
+double radii_ratio_of_sides(double a, double b, double c);
 
 struct QualityStats {
   int64_t triangles = 0;

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <type_traits>
 #include <vector>
 
@@ -127,5 +128,116 @@ std::vector<RowTrim> trim_rows(const Volume<T>& f, const InsideTest<T>& inside, 
   });
   return out;
 }
+
+// Ids of the sign-changing edges that start at the grid points of one z-plane, indexed by
+// y * nx + x per axis. Left uninitialised: only entries of cut edges are written and read.
+struct PlaneEdgeIds {
+  std::unique_ptr<uint32_t[]> x, y, z;
+  explicit PlaneEdgeIds(size_t n) : x(new uint32_t[n]), y(new uint32_t[n]), z(new uint32_t[n]) {}
+  uint32_t* axis(int a) { return a == 0 ? x.get() : a == 1 ? y.get() : z.get(); }
+};
+
+// The id of cell edge e (marching_cubes_table.hpp numbering) of the cell at (i, j) of the slab
+// between the planes whose ids are `lo` and `hi`.
+inline uint32_t cell_edge_id(const PlaneEdgeIds& lo, const PlaneEdgeIds& hi, int e, int64_t i,
+                             int64_t j, int64_t nx) {
+  const int b = e & 3;
+  const int lo_bit = b & 1, hi_bit = b >> 1;
+  switch (e >> 2) {
+    case 0: return (hi_bit ? hi : lo).x[(j + lo_bit) * nx + i];
+    case 1: return (hi_bit ? hi : lo).y[j * nx + i + lo_bit];
+    default: return lo.z[(j + hi_bit) * nx + i + lo_bit];
+  }
+}
+
+// Scans one field with its row trims: the sign-changing edges and the non-trivial cells, in the
+// fixed order both extractors number their output in.
+template <class T>
+class TrimmedScan {
+ public:
+  TrimmedScan(const Volume<T>& f, const InsideTest<T>& inside, Progress& progress)
+      : f_(f), inside_(inside), rows_(trim_rows(f, inside, progress)),
+        nx_(f.grid.dims[0]), ny_(f.grid.dims[1]), nz_(f.grid.dims[2]) {}
+
+  // Calls visit(axis, i, j) for every sign-changing edge starting at a grid point of plane k:
+  // row by row, x ascending, at each x the x-, then y-, then z-edge.
+  template <class Visit>
+  void cut_edges(int64_t k, Visit&& visit) const {
+    for (int64_t j = 0; j < ny_; ++j) {
+      const RowTrim& r = trim(j, k);
+      const bool has_y = j + 1 < ny_, has_z = k + 1 < nz_;
+      GridRange range = r.cut_range();
+      if (has_y) range = range.merge(pair_range(r, trim(j + 1, k), nx_));
+      if (has_z) range = range.merge(pair_range(r, trim(j, k + 1), nx_));
+      if (range.empty()) continue;
+      const T* a = row(j, k);
+      const T* ay = has_y ? row(j + 1, k) : nullptr;
+      const T* az = has_z ? row(j, k + 1) : nullptr;
+      for (int64_t i = range.lo; i < range.hi; ++i) {
+        const bool in = inside_(a[i]);
+        if (i + 1 < nx_ && inside_(a[i + 1]) != in) visit(0, i, j);
+        if (has_y && inside_(ay[i]) != in) visit(1, i, j);
+        if (has_z && inside_(az[i]) != in) visit(2, i, j);
+      }
+    }
+  }
+
+  // The cells [first, last) of row j of slab k (between planes k and k + 1) that may be
+  // non-trivial.
+  GridRange cell_range(int64_t j, int64_t k) const {
+    const GridRange g = quad_range(trim(j, k), trim(j + 1, k), trim(j, k + 1), trim(j + 1, k + 1), nx_);
+    if (g.empty()) return {};
+    return {std::max<int64_t>(g.lo - 1, 0), std::min<int64_t>(g.hi, nx_ - 1)};
+  }
+
+  // Calls visit(i, case) for every non-trivial cell of row j of slab k, x ascending. The case
+  // has bit c set when corner c (marching_cubes_table.hpp numbering) is inside; it is built by
+  // sliding along x, the right face of one cell being the left face of the next.
+  template <class Visit>
+  void cells(int64_t j, int64_t k, Visit&& visit) const {
+    const GridRange range = cell_range(j, k);
+    if (range.empty()) return;
+    const T* r00 = row(j, k);
+    const T* r10 = row(j + 1, k);
+    const T* r01 = row(j, k + 1);
+    const T* r11 = row(j + 1, k + 1);
+    auto face = [&](int64_t x) {  // corners 0, 2, 4, 6 of the cell starting at x
+      return int(inside_(r00[x])) | int(inside_(r10[x])) << 2 | int(inside_(r01[x])) << 4 |
+             int(inside_(r11[x])) << 6;
+    };
+    int left = face(range.lo);
+    for (int64_t i = range.lo; i < range.hi; ++i) {
+      const int right = face(i + 1);
+      const int cs = left | right << 1;
+      left = right;
+      if (cs != 0 && cs != 255) visit(i, cs);
+    }
+  }
+
+  bool inside(int64_t i, int64_t j, int64_t k) const { return inside_(row(j, k)[i]); }
+
+  // Numbers the cut edges of plane k from `first` in cut_edges order into `ids`, calling
+  // visit(axis, i, j, id) for each.
+  template <class Visit>
+  void number_plane(int64_t k, uint32_t first, PlaneEdgeIds& ids, Visit&& visit) const {
+    uint32_t id = first;
+    cut_edges(k, [&](int axis, int64_t i, int64_t j) {
+      ids.axis(axis)[j * nx_ + i] = id;
+      visit(axis, i, j, id);
+      ++id;
+    });
+  }
+
+ private:
+  const T* row(int64_t j, int64_t k) const {
+    return f_.voxels.data() + static_cast<size_t>((k * ny_ + j) * nx_);
+  }
+  const RowTrim& trim(int64_t j, int64_t k) const { return rows_[static_cast<size_t>(k * ny_ + j)]; }
+
+  const Volume<T>& f_;
+  InsideTest<T> inside_;
+  std::vector<RowTrim> rows_;
+  int64_t nx_, ny_, nz_;
+};
 
 }  // namespace segmesh
