@@ -9,11 +9,11 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "mesh_report.hpp"
+#include "meshing_args.hpp"
 #include "progress_bar.hpp"
 #include "segmesh/error.hpp"
 #include "segmesh/pipeline.hpp"
 #include "segmesh_io/atomic_file.hpp"
-#include "segmesh_io/label_names.hpp"
 #include "segmesh_io/mesh_format.hpp"
 #include "segmesh_io/write_mesh.hpp"
 
@@ -26,21 +26,10 @@ namespace {
 struct MeshArgs {
   std::string input;
   std::string output;
-  std::string method = "mc";
-  std::vector<int32_t> labels;
-  std::optional<double> iso;
-  int connectivity = 26;
-  int64_t min_voxels = 0;
-  std::string normals = "central";
-  std::string label_names;
+  MeshingArgs meshing;
   std::string format;
   std::string report;
-  double presmooth = 0;
-  std::string smooth = std::string(smooth_method_name(default_smoothing().method));
-  SmoothOptions smooth_options = default_smoothing();
   std::string color = "material";
-  double dc_svd_eps = MeshingOptions{}.dc_svd_eps;
-  double dc_tolerance = 0;
   int threads = 0;
   bool quiet = false;
 };
@@ -91,60 +80,18 @@ void refuse_to_overwrite(const fs::path& output, const fs::path& input) {
 }
 
 nlohmann::json options_json(const MeshArgs& a, const OutputTarget& out) {
-  nlohmann::json j = {{"method", a.method},
-                      {"labels", a.labels},
-                      {"connectivity", a.connectivity},
-                      {"min_voxels", a.min_voxels},
-                      {"normals", a.normals},
-                      {"format", extension(out.format)},
-                      {"output", out.path.string()},
-                      {"per_part_files", out.folder},
-                      {"threads", a.threads},
-                      {"presmooth_mm", a.presmooth},
-                      {"smooth",
-                       {{"method", a.smooth},
-                        {"iterations", a.smooth_options.iterations},
-                        {"lambda", a.smooth_options.lambda},
-                        {"alpha", a.smooth_options.alpha},
-                        {"beta", a.smooth_options.beta},
-                        {"taubin_lambda", a.smooth_options.taubin_lambda},
-                        {"taubin_mu", a.smooth_options.taubin_mu},
-                        {"pass_band", a.smooth_options.pass_band},
-                        {"sinc_unit_gain", a.smooth_options.sinc_unit_gain},
-                        {"preserve_volume", a.smooth_options.preserve_volume}}},
-                      {"color", a.color},
-                      {"dc_svd_eps", a.dc_svd_eps},
-                      {"dc_tolerance_mm", a.dc_tolerance}};
-  j["iso"] = a.iso ? nlohmann::json(*a.iso) : nlohmann::json(nullptr);
-  j["label_names"] = a.label_names.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.label_names);
+  nlohmann::json j = meshing_json(a.meshing);
+  j["format"] = extension(out.format);
+  j["output"] = out.path.string();
+  j["per_part_files"] = out.folder;
+  j["threads"] = a.threads;
+  j["color"] = a.color;
   return j;
 }
 
 int run_mesh(const MeshArgs& args) {
   const auto start = std::chrono::steady_clock::now();
-  MeshingOptions options;
-  const auto method = parse_method(args.method);
-  if (!method) throw Error("--method must be mc or dc (got \"" + args.method + "\")");
-  options.method = *method;
-  const auto normals = parse_normals(args.normals);
-  if (!normals) throw Error("--normals must be central or sobel (got \"" + args.normals + "\")");
-  options.normals = *normals;
-  for (int32_t label : args.labels) {
-    if (label == 0) throw Error("--labels: 0 is the background and has no surface");
-  }
-  options.labels = args.labels;
-  options.iso = args.iso;
-  options.connectivity = args.connectivity;
-  options.min_voxels = args.min_voxels;
-  options.presmooth_sigma_mm = args.presmooth;
-  options.dc_svd_eps = args.dc_svd_eps;
-  options.dc_tolerance_mm = args.dc_tolerance;
-  const auto smooth = parse_smooth_method(args.smooth);
-  if (!smooth) {
-    throw Error("--smooth must be none, laplacian, hc, taubin or sinc (got \"" + args.smooth + "\")");
-  }
-  options.smooth = args.smooth_options;
-  options.smooth.method = *smooth;
+  MeshingOptions options = meshing_options(args.meshing);
   if (args.color != "material" && args.color != "quality") {
     throw Error("--color must be material or quality (got \"" + args.color + "\")");
   }
@@ -152,18 +99,17 @@ int run_mesh(const MeshArgs& args) {
   const OutputTarget target = resolve_output(args);
   refuse_to_overwrite(target.path, args.input);
   if (!args.report.empty()) require_parent_folder(args.report);
-  if (!args.label_names.empty()) options.label_names = read_label_names(args.label_names);
   const auto threads = limit_threads(args.threads);
 
   Timings t;
   auto step = std::chrono::steady_clock::now();
-  const Image image = read_input(args.input);
+  Image image = read_input(args.input);
   t.read = ms_since(step);
 
   ProgressBar progress(!args.quiet);
   PipelineStats pipeline;
   Scene unsmoothed;
-  const Scene scene = build_scene(image, options, progress, &pipeline,
+  const Scene scene = build_scene_releasing(image, options, progress, &pipeline,
                                   args.report.empty() ? nullptr : &unsmoothed);
   progress.finish();
   t.components = pipeline.components_ms;
@@ -222,44 +168,9 @@ Subcommand add_mesh_command(CLI::App& app) {
                   "one file for all parts (scene.glb, .ply, .stl, .obj) or a folder ending in / "
                   "for one file per part")
       ->required();
-  cmd->add_option("--method", a->method, "extraction: mc (Marching Cubes) or dc (Dual Contouring)")
-      ->capture_default_str();
-  cmd->add_option("--labels", a->labels, "labels to mesh, e.g. 1,2 (default: every non-zero label)")
-      ->delimiter(',');
-  cmd->add_option("--iso", a->iso, "mesh a grey-value volume (e.g. CT in HU) at this value");
-  cmd->add_option("--connectivity", a->connectivity, "voxel connectivity of parts: 6, 18 or 26")
-      ->capture_default_str();
-  cmd->add_option("--min-voxels", a->min_voxels, "drop components with fewer voxels")->capture_default_str();
-  cmd->add_option("--normals", a->normals, "vertex normals: central or sobel")->capture_default_str();
-  cmd->add_option("--presmooth", a->presmooth,
-                  "Gaussian sigma in mm applied to each part before extraction (0: off; costs volume)")
-      ->capture_default_str();
-  cmd->add_option("--dc-svd-eps", a->dc_svd_eps,
-                  "Dual Contouring: drop QEF singular values below this fraction of the largest")
-      ->capture_default_str();
-  cmd->add_option("--dc-tolerance", a->dc_tolerance,
-                  "Dual Contouring: simplify flat regions up to this error in mm (0: off)")
-      ->capture_default_str();
-  cmd->add_option("--smooth", a->smooth, "smoothing: none, laplacian, hc, taubin or sinc")
-      ->capture_default_str();
-  auto& so = a->smooth_options;
-  cmd->add_option("--iterations", so.iterations, "smoothing iterations (0: the method's default)")
-      ->capture_default_str();
-  cmd->add_option("--lambda", so.lambda, "Laplacian step (1: move to the neighbour average)")
-      ->capture_default_str();
-  cmd->add_option("--alpha", so.alpha, "HC: weight of the original positions")->capture_default_str();
-  cmd->add_option("--beta", so.beta, "HC: weight of a vertex's own correction")->capture_default_str();
-  cmd->add_option("--taubin-lambda", so.taubin_lambda, "Taubin: shrinking step")->capture_default_str();
-  cmd->add_option("--taubin-mu", so.taubin_mu, "Taubin: inflating step (negative)")->capture_default_str();
-  cmd->add_option("--pass-band", so.pass_band, "windowed sinc: pass band (3D Slicer: 0.01)")
-      ->capture_default_str();
-  cmd->add_flag("!--no-preserve-volume", so.preserve_volume,
-                "do not restore each part's volume after smoothing (the plain filter)");
-  cmd->add_flag("!--no-unit-gain", so.sinc_unit_gain,
-                "windowed sinc exactly as VTK and 3D Slicer (a slight scaling, f(0) != 1)");
+  add_meshing_options(cmd, a->meshing);
   cmd->add_option("--color", a->color, "vertex colours: material or quality (radii ratio, blue 0 to green 1)")
       ->capture_default_str();
-  cmd->add_option("--label-names", a->label_names, "TSV file: label, name[, role bone|implant|other]");
   cmd->add_option("--format", a->format, "file format for a folder output: stl, ply (default), obj, glb");
   cmd->add_option("--report", a->report, "write a JSON report to this file");
   cmd->add_option("--threads", a->threads, "worker threads (0: all cores)")->capture_default_str();

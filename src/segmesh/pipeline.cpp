@@ -211,8 +211,12 @@ void color_scene_by_quality(Scene& scene) {
   });
 }
 
-Scene build_scene(const Image& image, const MeshingOptions& o, Progress& progress,
-                  PipelineStats* timings, Scene* unsmoothed) {
+namespace {
+
+// The pipeline. With `release`, the volume's voxels are freed as soon as extraction is done, so
+// smoothing and writing do not carry them (build_scene(Image&&)).
+Scene run_pipeline(const Image& image, const MeshingOptions& o, Progress& progress,
+                   PipelineStats* timings, Scene* unsmoothed, Image* release) {
   validate(o);
   PipelineStats local;
   PipelineStats& t = timings ? *timings : local;
@@ -282,6 +286,9 @@ Scene build_scene(const Image& image, const MeshingOptions& o, Progress& progres
   t.extract_ms = ms_since(start);
   t.presmooth_fallbacks = fallbacks;
   if (unsmoothed) *unsmoothed = scene;
+  if (release) {
+    std::visit([](auto& v) { v.voxels = {}; }, release->volume);
+  }
 
   progress.step("smoothing");
   start = Clock::now();
@@ -289,6 +296,18 @@ Scene build_scene(const Image& image, const MeshingOptions& o, Progress& progres
   t.smooth_ms = ms_since(start);
   if (o.color_by_quality) color_scene_by_quality(scene);
   return scene;
+}
+
+}  // namespace
+
+Scene build_scene(const Image& image, const MeshingOptions& options, Progress& progress,
+                  PipelineStats* timings, Scene* unsmoothed) {
+  return run_pipeline(image, options, progress, timings, unsmoothed, nullptr);
+}
+
+Scene build_scene_releasing(Image& image, const MeshingOptions& options, Progress& progress,
+                            PipelineStats* timings, Scene* unsmoothed) {
+  return run_pipeline(image, options, progress, timings, unsmoothed, &image);
 }
 
 }  // namespace segmesh

@@ -75,6 +75,12 @@ inline constexpr size_t kMaxLabelsWithoutSelection = 1000;
 Scene build_scene(const Image& image, const MeshingOptions& options,
                   Progress& progress = null_progress(), PipelineStats* timings = nullptr,
                   Scene* unsmoothed = nullptr);
+// As build_scene, freeing the image's voxels once extraction is done (the grid, path and names
+// stay), so the steps after it do not carry the volume: for a front end that is done with the
+// volume and wants its peak memory down.
+Scene build_scene_releasing(Image& image, const MeshingOptions& options,
+                            Progress& progress = null_progress(), PipelineStats* timings = nullptr,
+                            Scene* unsmoothed = nullptr);
 
 // The smoothing step on its own: every part smoothed in parallel (normals recomputed); then
 // quality colours when asked. build_scene ends with it; the study runs it with many settings.

@@ -1,0 +1,88 @@
+#!/usr/bin/env bash
+# segmesh against the peers users pick today, on the same inputs in one go, as time ratios per step
+# at 1 and 2 threads:
+#   extraction   segmesh components + Marching Cubes   vs  VTK vtkDiscreteFlyingEdges3D (3D Slicer)
+#   Dual Contouring                                     vs  segmesh's own Marching Cubes
+#   smoothing    segmesh HC x2 and default smoothing    vs  VTK windowed sinc, 20 iterations (Slicer)
+#   whole        `segmesh mesh IN -o OUT.glb --smooth hc --iterations 2` wall time and peak memory
+# Inputs: the big 512x512x203 volume from ../shared/tools/make_big.py, the 512x512x203 phantom and
+# ../shared/data/pelvic_fracture/001 (the left hip fragments).
+#   bench/compare_peers.sh [BUILD_DIR] [OUT_DIR]
+# Needs Debian's python3-vtk9 python3-nibabel python3-numpy python3-scipy (scripts/install-deps.sh
+# --with-peers). Takes a few minutes; run it on a quiet machine.
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+repo="$(dirname "$here")"
+build="${1:-$repo/build}"
+out="${2:-$(mktemp -d /tmp/segmesh_peers.XXXXXX)}"
+shared="$repo/../shared"
+mkdir -p "$out"
+py=/usr/bin/python3
+
+inputs=()
+if [[ -f "$shared/tools/make_big.py" ]]; then
+  [[ -f "$out/big_seg.nii.gz" ]] ||
+    $py "$shared/tools/make_big.py" "$shared/data/totalsegmentator/example_seg_dicom.nii.gz" \
+      "$out/big_seg.nii.gz" >/dev/null
+  inputs+=("$out/big_seg.nii.gz")
+fi
+[[ -f "$out/phantom.nii.gz" ]] || "$build/apps/cli/segmesh" phantom -o "$out/phantom.nii.gz" --quiet
+inputs+=("$out/phantom.nii.gz")
+[[ -f "$shared/data/pelvic_fracture/001/001_LI_mask.nii.gz" ]] &&
+  inputs+=("$shared/data/pelvic_fracture/001/001_LI_mask.nii.gz")
+
+echo "| input | threads | segmesh MC (s) | VTK discrete FE (s) | ratio | segmesh DC (s) | DC / MC | segmesh HC x2 (s) | segmesh default smoothing (s) | VTK sinc x20 (s) | sinc / HC x2 | sinc / default |"
+echo "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
+for input in "${inputs[@]}"; do
+  name=$(basename "$input")
+  $py "$shared/tools/peer_mesh.py" "$input" --methods vtk_discrete_flying_edges,vtk_discrete_flying_edges_sinc \
+    --threads 1,2 --repeats 3 --json "$out/$name.vtk.jsonl" >/dev/null 2>&1
+  for t in 1 2; do
+    "$build/bench/segmesh_step_timing" "$input" "$t" 3 > "$out/$name.segmesh.$t.json"
+    $py - "$out/$name.vtk.jsonl" "$out/$name.segmesh.$t.json" "$t" "$name" <<'PY'
+import json, sys
+vtk_file, ours_file, t, name = sys.argv[1:5]
+extract = sinc = 0.0
+for line in open(vtk_file):
+    d = json.loads(line)
+    if d["method"] == "vtk_discrete_flying_edges":
+        extract += d["extract_s"][t]
+    if d["method"] == "vtk_discrete_flying_edges_sinc":
+        sinc += d["smooth_s"][t]
+o = json.load(open(ours_file))
+print(f"| {name} | {t} | {o['mc_s']:.3f} | {extract:.3f} | {extract / o['mc_s']:.2f}x | {o['dc_s']:.3f} | "
+      f"{o['dc_s'] / o['mc_s']:.2f} | {o['hc2_s']:.3f} | {o['default_smooth_s']:.3f} | {sinc:.3f} | "
+      f"{sinc / o['hc2_s']:.1f}x | {sinc / o['default_smooth_s']:.1f}x |")
+PY
+  done
+done
+echo
+echo "| input | whole segmesh mesh -> GLB, HC x2 (wall s) | peak memory (MB) | input voxels + mesh bytes (MB) | peak / that |"
+echo "| --- | ---: | ---: | ---: | ---: |"
+for input in "${inputs[@]}"; do
+  name=$(basename "$input")
+  best=1e9; peak=0
+  for r in 1 2 3; do
+    /usr/bin/time -f "%e %M" -o "$out/time.txt" "$build/apps/cli/segmesh" mesh "$input" -o "$out/$name.glb" \
+      --smooth hc --iterations 2 --quiet
+    read -r wall kb < "$out/time.txt"
+    best=$($py -c "print(min($best, $wall))")
+    peak=$kb
+  done
+  # Sizes for the memory budget, from a report (not timed: the report measures deviations).
+  "$build/apps/cli/segmesh" mesh "$input" -o "$out/$name.glb" --smooth hc --iterations 2 --quiet \
+    --report "$out/$name.report.json"
+  $py - "$out/$name.report.json" "$best" "$peak" "$name" <<'PY'
+import json, sys
+report, wall, peak_kb, name = sys.argv[1], float(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
+r = json.load(open(report))
+d = r["input"]["dims"]
+voxels = d[0] * d[1] * d[2]
+bytes_per_voxel = {"uint8": 1, "int8": 1, "uint16": 2, "int16": 2}.get(r["input"]["type"], 4)
+mesh = r["totals"]["vertices"] * 24 + r["totals"]["triangles"] * 12
+base = (voxels * bytes_per_voxel + mesh) / 1e6
+print(f"| {name} | {wall:.2f} | {peak_kb / 1024:.0f} | {base:.0f} | {peak_kb / 1024 / base:.2f} |")
+PY
+done
+echo
+echo "files in $out"
