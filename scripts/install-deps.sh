@@ -13,6 +13,10 @@ packages=(
   libtbb-dev                                    # threads (oneTBB)
   libcli11-dev nlohmann-json3-dev               # command line, JSON (reports, glTF)
   googletest libgtest-dev python3-numpy python3-scipy  # tests (../shared/tools/mesh_metrics.py)
+  libdeflate-dev                                # fast gzip inflate (.nii.gz, .seg.nrrd)
+  libbenchmark-dev                              # Google Benchmark (bench/segmesh_bench)
+  libepoxy-dev libegl-dev libstb-dev            # renderer: OpenGL/EGL loader, EGL headers, PNG
+  libegl-mesa0 libgl1-mesa-dri                  # headless rendering: Mesa's EGL and llvmpipe
 )
 if [[ "${1:-}" == "--with-peers" ]]; then
   packages+=(python3-vtk9 python3-skimage python3-numpy python3-nibabel python3-scipy)

@@ -1,13 +1,15 @@
 // segmesh study INPUT -o DIR: reproduces the reference thesis's evaluation (its Tables 1-3) on any
-// input and writes DIR/study.md, DIR/study.json and colour-coded meshes (radii ratio, blue 0 to
-// green 1) as GLB.
+// input and writes DIR/study.md, DIR/study.json, colour-coded meshes (radii ratio, blue 0 to
+// green 1) as GLB and pictures of the meshes (PNG, rendered headless by segmesh_render).
 //   Table 1: Marching Cubes against Dual Contouring — vertices, triangles, time.
 //   Table 2: smoothing — volume change and deviation from the unsmoothed surface, time.
 //   Table 3: triangle quality — minimum and mean radii ratio with and without smoothing.
 // Every mesh comes from the pipeline (build_scene, smooth_scene), as in `segmesh mesh`.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <sstream>
 
 #include "cli_common.hpp"
@@ -21,6 +23,9 @@
 #include "segmesh_io/atomic_file.hpp"
 #include "segmesh_io/label_names.hpp"
 #include "segmesh_io/write_mesh.hpp"
+#include "segmesh_render/camera.hpp"
+#include "segmesh_render/headless_context.hpp"
+#include "segmesh_render/renderer.hpp"
 
 namespace segmesh::cli {
 
@@ -104,6 +109,58 @@ std::string smoothing_label(const SmoothOptions& o, bool with_iterations = true)
   return s;
 }
 
+// A picture's size for the scene in the iso view: the longer side 720 pixels, the aspect of the
+// scene's outline (between 1:2 and 2:1), so a long bone is not a sliver in a landscape frame.
+std::pair<int, int> picture_size(const Scene& scene) {
+  render::Camera camera = render::standard_camera(scene, render::StandardView::iso, 1.0);
+  const render::Bounds b = render::scene_bounds(scene);
+  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+  for (int i = 0; i < 8; ++i) {
+    const Vec3d p{i & 1 ? b.max.x : b.min.x, i & 2 ? b.max.y : b.min.y, i & 4 ? b.max.z : b.min.z};
+    if (const auto px = render::project_to_pixel(camera, 1000, 1000, p)) {
+      x0 = std::min(x0, px->x), x1 = std::max(x1, px->x);
+      y0 = std::min(y0, px->y), y1 = std::max(y1, px->y);
+    }
+  }
+  const double aspect = x1 > x0 && y1 > y0 ? std::clamp((x1 - x0) / (y1 - y0), 0.5, 2.0) : 4.0 / 3;
+  return aspect >= 1 ? std::pair{720, int(720 / aspect)} : std::pair{int(720 * aspect), 720};
+}
+
+struct Picture {
+  std::string file, caption;
+};
+
+// Renders the study's scenes (iso view, ambient occlusion, anti-aliased) into DIR. Without an
+// OpenGL context (no EGL, no Mesa) the study goes on without pictures and says so.
+std::vector<Picture> render_pictures(const fs::path& dir,
+                                     const std::vector<std::pair<const Scene*, Picture>>& scenes,
+                                     bool quiet) {
+  std::vector<Picture> done;
+  std::unique_ptr<render::HeadlessContext> context;
+  try {
+    context = std::make_unique<render::HeadlessContext>();
+  } catch (const Error& e) {
+    std::fprintf(stderr, "segmesh: warning: study without pictures: %s\n", e.what());
+    return done;
+  }
+  render::Renderer renderer;
+  for (const auto& [scene, picture] : scenes) {
+    const auto [w, h] = picture_size(*scene);
+    render::RenderOptions options;
+    options.supersample = 2;
+    options.color = picture.file.find("quality") != std::string::npos ? render::ColorMode::quality
+                                                                       : render::ColorMode::material;
+    const render::Camera camera =
+        render::standard_camera(*scene, render::StandardView::iso, double(w) / h);
+    render::write_png(renderer.render_image(*scene, camera, options, w, h), dir / picture.file);
+    done.push_back(picture);
+  }
+  if (!quiet && !done.empty()) {
+    std::printf("rendered %zu pictures (%s)\n", done.size(), context->description().c_str());
+  }
+  return done;
+}
+
 int run_study(const StudyArgs& args) {
   const fs::path dir = args.output;
   if (!fs::exists(dir)) require_parent_folder(dir);
@@ -185,16 +242,36 @@ int run_study(const StudyArgs& args) {
     write_scene(scene, dir / name, MeshFormat::glb);
     written.push_back(name);
   };
+  std::vector<Scene> smoothed_scenes;  // with segmesh's default smoothing, per extraction
   for (size_t e = 0; e < extractions.size(); ++e) {
     const std::string tag = e == 0 ? "mc" : "dc";
     write_colored(extractions[e].scene, tag + "_quality.glb");
     if (ours.method != SmoothMethod::none) {
       Scene smoothed = extractions[e].scene;
       smooth_scene(smoothed, ours);
-      write_colored(std::move(smoothed), tag + "_" + std::string(smooth_method_name(ours.method)) +
-                                             "_quality.glb");
+      write_colored(smoothed, tag + "_" + std::string(smooth_method_name(ours.method)) +
+                                  "_quality.glb");
+      smoothed_scenes.push_back(std::move(smoothed));
     }
   }
+
+  // Pictures: both extractions as extracted, Marching Cubes smoothed, and the triangle quality.
+  std::vector<std::pair<const Scene*, Picture>> to_render = {
+      {&extractions[0].scene, {"mc.png", "Marching Cubes"}},
+      {&extractions[1].scene, {"dc.png", "Dual Contouring"}},
+  };
+  const std::string smooth_name(smooth_method_name(ours.method));
+  if (!smoothed_scenes.empty()) {
+    to_render.push_back({&smoothed_scenes[0], {"mc_" + smooth_name + ".png",
+                                                "Marching Cubes, smoothed (" + smoothing_label(ours) + ")"}});
+  }
+  to_render.push_back({&extractions[0].scene, {"mc_quality.png", "Marching Cubes, radii ratio"}});
+  to_render.push_back({&extractions[1].scene, {"dc_quality.png", "Dual Contouring, radii ratio"}});
+  if (!smoothed_scenes.empty()) {
+    to_render.push_back({&smoothed_scenes[0], {"mc_" + smooth_name + "_quality.png",
+                                                "Marching Cubes, smoothed, radii ratio"}});
+  }
+  const std::vector<Picture> pictures = render_pictures(dir, to_render, args.quiet);
 
   // study.json
   nlohmann::json j;
@@ -233,6 +310,8 @@ int run_study(const StudyArgs& args) {
     j["extractions"].push_back(ej);
   }
   j["meshes"] = written;
+  j["pictures"] = nlohmann::json::array();
+  for (const Picture& p : pictures) j["pictures"].push_back({{"file", p.file}, {"caption", p.caption}});
 
   // study.md
   std::ostringstream md;
@@ -292,6 +371,11 @@ int run_study(const StudyArgs& args) {
         "0.007662 / 0.68719.\n\nColour-coded meshes (blue: radii ratio 0, green: 1):";
   for (const std::string& w : written) md << " `" << w << "`";
   md << "\n";
+  if (!pictures.empty()) {
+    md << "\n## Pictures\n\nIso view (anterior, left, above), ambient occlusion on; radii ratio from blue "
+          "(0) to green (1).\n\n";
+    for (const Picture& p : pictures) md << p.caption << ":\n\n![" << p.caption << "](" << p.file << ")\n\n";
+  }
 
   AtomicFile json_file(dir / "study.json");
   json_file.stream() << j.dump(2) << '\n';
@@ -301,7 +385,8 @@ int run_study(const StudyArgs& args) {
   md_file.commit();
   if (!args.quiet) {
     std::printf("%s", md.str().c_str());
-    std::printf("\nwrote %s/study.md, study.json and %zu meshes\n", dir.string().c_str(), written.size());
+    std::printf("\nwrote %s/study.md, study.json, %zu meshes and %zu pictures\n", dir.string().c_str(),
+                written.size(), pictures.size());
   }
   return 0;
 }
@@ -313,7 +398,7 @@ Subcommand add_study_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "study", "Reproduce the reference thesis's evaluation (Tables 1-3) on a volume");
   cmd->add_option("input", a->input, "volume file or DICOM folder")->required();
-  cmd->add_option("-o,--output", a->output, "folder for study.md, study.json and meshes")->required();
+  cmd->add_option("-o,--output", a->output, "folder for study.md, study.json, meshes and pictures")->required();
   cmd->add_option("--labels", a->labels, "labels to study (default: every non-zero label)")->delimiter(',');
   cmd->add_option("--iso", a->iso, "study a grey-value volume at this iso value");
   cmd->add_option("--label-names", a->label_names, "TSV file: label, name[, role]");

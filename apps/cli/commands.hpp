@@ -16,6 +16,7 @@ Subcommand add_info_command(CLI::App& app);
 Subcommand add_mesh_command(CLI::App& app);
 Subcommand add_phantom_command(CLI::App& app);
 Subcommand add_quality_command(CLI::App& app);
+Subcommand add_render_command(CLI::App& app);
 Subcommand add_study_command(CLI::App& app);
 
 }  // namespace segmesh::cli

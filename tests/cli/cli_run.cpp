@@ -23,13 +23,16 @@ std::string slurp(const std::filesystem::path& p) {
 }
 }  // namespace
 
-CliResult run_segmesh(const std::string& args) {
+CliResult run_segmesh(const std::string& args) { return run_segmesh_with_env("", args); }
+
+CliResult run_segmesh_with_env(const std::string& environment, const std::string& args) {
   static std::atomic<int> counter{0};
   const auto dir = std::filesystem::path(SEGMESH_BINARY_DIR) / "test_scratch" / "cli_capture";
   std::filesystem::create_directories(dir);
   const std::string tag = std::to_string(::getpid()) + "_" + std::to_string(counter++);
   const auto out = dir / ("out_" + tag), err = dir / ("err_" + tag);
-  const std::string command = std::string(SEGMESH_EXE) + " " + args + " >" + out.string() +
+  const std::string command = (environment.empty() ? "" : "env " + environment + " ") +
+                              std::string(SEGMESH_EXE) + " " + args + " >" + out.string() +
                               " 2>" + err.string();
   const int status = std::system(command.c_str());
   CliResult r;
@@ -39,6 +42,19 @@ CliResult run_segmesh(const std::string& args) {
   std::filesystem::remove(out);
   std::filesystem::remove(err);
   return r;
+}
+
+std::pair<int, int> png_size(const std::filesystem::path& file) {
+  const std::string bytes = slurp(file);
+  // Signature (8 bytes), IHDR length and type (8), then width and height, big-endian.
+  if (bytes.size() < 24 || bytes.compare(1, 3, "PNG") != 0 || bytes.compare(12, 4, "IHDR") != 0) {
+    return {0, 0};
+  }
+  auto be32 = [&](size_t at) {
+    return int((uint8_t(bytes[at]) << 24) | (uint8_t(bytes[at + 1]) << 16) |
+               (uint8_t(bytes[at + 2]) << 8) | uint8_t(bytes[at + 3]));
+  };
+  return {be32(16), be32(20)};
 }
 
 bool folder_holds_only(const std::filesystem::path& dir, const std::vector<std::string>& keep) {

@@ -288,6 +288,14 @@ TEST(Cli, StudyWritesTheThreeTablesJsonAndColourCodedMeshes) {
   }
   EXPECT_LT(laplacian, hc);
   EXPECT_LT(std::abs(hc), 0.6);
+  // Pictures of the meshes (rendered headless), linked from study.md.
+  ASSERT_EQ(j["pictures"].size(), 6u);
+  for (const char* png : {"mc.png", "dc.png", "mc_sinc.png", "mc_quality.png", "dc_quality.png",
+                          "mc_sinc_quality.png"}) {
+    const auto [w, h] = test::png_size(dir / "study" / png);
+    EXPECT_TRUE(w >= 360 && h >= 360 && std::max(w, h) == 720) << png << " " << w << "x" << h;
+    EXPECT_NE(md.find(std::string("](") + png + ")"), std::string::npos) << png;
+  }
   for (const char* mesh : {"mc_quality.glb", "dc_quality.glb"}) {
     ASSERT_TRUE(fs::exists(dir / "study" / mesh)) << mesh;
     const Scene s = read_mesh(dir / "study" / mesh);
