@@ -2,10 +2,13 @@
 // segmesh_io: not part of the public API.
 #pragma once
 
+#include <array>
 #include <bit>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <functional>
+#include <memory>
 #include <ostream>
 #include <string>
 #include <string_view>
@@ -43,16 +46,30 @@ Vec3d transform_point(const Transform& t, Vec3d p);
 Vec3d transform_normal(const Transform& t, Vec3d n);
 double linear_determinant(const Transform& t);
 
-// A part's mesh with its transform applied (formats without a scene graph bake a moved part into
-// its coordinates). No copy when the transform is the identity.
-class PlacedMesh {
+// Where a part's vertices go in formats without a scene graph: its transform applied to each
+// position and normal as it is written (no copy of the mesh), and the winding reversed when the
+// transform mirrors.
+class Placement {
  public:
-  explicit PlacedMesh(const Part& part);
-  const TriMesh& mesh() const { return *mesh_; }
+  explicit Placement(const Part& part);
+  bool flips() const { return flips_; }
+  Vec3f point(Vec3f p) const {
+    return moved_ ? to_float(transform_point(transform_, to_double(p))) : p;
+  }
+  Vec3f normal(Vec3f n) const {
+    return moved_ ? to_float(transform_normal(transform_, to_double(n))) : n;
+  }
+  // The corners of triangle t (indices 3t, 3t+1, 3t+2 of `mesh`) in the order they are written.
+  std::array<uint32_t, 3> corners(const TriMesh& mesh, size_t t) const {
+    const uint32_t* c = mesh.indices.data() + 3 * t;
+    return flips_ ? std::array<uint32_t, 3>{c[0], c[2], c[1]}
+                  : std::array<uint32_t, 3>{c[0], c[1], c[2]};
+  }
 
  private:
-  TriMesh storage_;
-  const TriMesh* mesh_;
+  Transform transform_;
+  bool moved_;
+  bool flips_;
 };
 
 // The unit normal of triangle (a, b, c) taken counter-clockwise; zero for a degenerate triangle.
@@ -102,25 +119,61 @@ T load_be(const char* p) {
   return value;
 }
 
-// Collects output in memory and hands it to the stream in large blocks: writers emit millions of
-// tiny records, which a raw ofstream handles slowly.
-class BlockWriter {
+template <class T>
+char* put_le(char* p, T value) {
+  if constexpr (std::endian::native == std::endian::big) value = byteswap_value(value);
+  std::memcpy(p, &value, sizeof(T));
+  return p + sizeof(T);
+}
+
+// A reusable byte buffer that writers fill through a raw cursor: room(n) guarantees n writable
+// bytes at the end, commit(p) makes everything up to p part of the contents.
+class ChunkBuffer {
  public:
-  explicit BlockWriter(std::ostream& out) : out_(out) { buffer_.reserve(kBlock + 256); }
-  ~BlockWriter() = default;
-  std::string& buffer() { return buffer_; }
-  void maybe_flush() {
-    if (buffer_.size() >= kBlock) flush();
-  }
-  void flush() {
-    out_.write(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
-    buffer_.clear();
-  }
+  char* room(size_t n);
+  void commit(char* end) { size_ = static_cast<size_t>(end - data_.get()); }
+  void append(std::string_view text);
+  void clear() { size_ = 0; }
+  std::string_view view() const { return {data_.get(), size_}; }
 
  private:
-  static constexpr size_t kBlock = 1 << 20;
-  std::ostream& out_;
-  std::string buffer_;
+  std::unique_ptr<char[]> data_;
+  size_t capacity_ = 0;
+  size_t size_ = 0;
+};
+
+// How writers produce a file: as `count` pieces written to `out` in order. fill(i, buffer)
+// returns piece i's bytes, either formatted into `buffer` (handed over empty) or pointing at
+// memory that outlives the call (a mesh's own arrays). Pieces are filled in parallel on oneTBB's
+// threads while earlier ones are being written, through a small ring of reused buffers, so the
+// file is never built in memory and the output is the same for any thread count. Aim for pieces
+// of about kPieceBytes.
+inline constexpr size_t kPieceBytes = size_t(1) << 20;
+using PieceFill = std::function<std::string_view(size_t, ChunkBuffer&)>;
+void write_pieces(std::ostream& out, size_t count, const PieceFill& fill);
+
+// A list of pieces built part by part: text known in advance, or ranges of `items` things
+// formatted by a function, split into pieces of at most `per_piece` items.
+class PieceList {
+ public:
+  void text(std::string bytes);
+  void bytes(const void* data, size_t size);  // raw memory, written as it is
+  void items(size_t count, size_t per_piece,
+             std::function<std::string_view(size_t begin, size_t end, ChunkBuffer&)> format);
+  void write(std::ostream& out) const;
+
+ private:
+  struct Piece {
+    size_t group;
+    size_t begin, end;
+  };
+  struct Group {
+    std::string text;
+    const char* data = nullptr;
+    std::function<std::string_view(size_t, size_t, ChunkBuffer&)> format;
+  };
+  std::vector<Group> groups_;
+  std::vector<Piece> pieces_;
 };
 
 }  // namespace segmesh::mesh_io

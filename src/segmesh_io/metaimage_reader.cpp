@@ -155,17 +155,14 @@ Image read_metaimage(const fs::path& path, const ReadOptions& options) {
   }
   const uint64_t size = size_of_file(source);
   const uint64_t stored = size > offset ? size - offset : 0;
+  // Compressed data are counted while they are decoded, into storage that grows with the data.
   check_data_fits(path, needed, stored, compressed);
-  if (compressed) {
-    DataStream counting(source, offset, true);
-    check_compressed_data(path, counting, 0, needed);
-  }
 
   const bool big_endian = meta.flag("binarydatabyteordermsb") || meta.flag("elementbyteordermsb");
   const bool swap = big_endian != (std::endian::native == std::endian::big);
   VoxelSink sink(path, count, *type);
-  DataStream data(source, offset, compressed);
-  read_voxels(path, data, count, *type, swap, sink);
+  sink.defer_value_errors();  // stream faults first, as when the data were counted first
+  read_voxel_data(path, source, offset, compressed, 0, count, *type, swap, sink);
   return Image{
       path.string(), std::string(voxel_type_name(*type)), std::move(sink).finish(header.grid), {}};
 }

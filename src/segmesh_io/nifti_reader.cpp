@@ -294,18 +294,17 @@ Image read_nifti(const fs::path& path, const ReadOptions& options) {
   const uint64_t count = uint64_t(dims[0]) * uint64_t(dims[1]) * uint64_t(dims[2]);
   const uint64_t needed = count * voxel_type_size(*type);
 
-  // Nothing is allocated until the file is known to hold every byte the header claims.
+  // Absurd sizes are refused before anything is allocated: raw data against the file's size,
+  // compressed data against the best ratio deflate can reach. The exact count of compressed data
+  // comes from inflating it, once: straight into the volume when the gzip trailer agrees with
+  // the header (touching memory only then), else block by block into storage that grows with
+  // the data, so a lying header costs no more memory than the data the file really holds.
   const uint64_t size_on_disk = size_of_file(path);
   if (compressed) {
     check_data_fits(path, vox_offset + needed, size_on_disk, true);
-    DataStream counting(path, 0, true);
-    check_compressed_data(path, counting, vox_offset, needed);
   } else {
     check_data_fits(path, needed, size_on_disk > vox_offset ? size_on_disk - vox_offset : 0, false);
   }
-
-  const Grid grid = h.version == 1 ? nifti1_grid_from_itk(path, dims) : nifti2_grid(h, dims);
-  check_grid(path, grid, "pixdim[1..3] / sform");
 
   Rescale rescale;
   if (std::isfinite(h.scl_slope) && h.scl_slope != 0) {  // slope 0 means "no scaling"
@@ -313,9 +312,14 @@ Image read_nifti(const fs::path& path, const ReadOptions& options) {
     rescale.intercept = std::isfinite(h.scl_inter) ? h.scl_inter : 0;
   }
   VoxelSink sink(path, count, *type, rescale);
-  DataStream data(path, compressed ? 0 : vox_offset, compressed);
-  if (compressed && data.skip(vox_offset) < vox_offset) throw truncated_error(path, needed, 0);
-  read_voxels(path, data, count, *type, h.swapped, sink);
+  sink.defer_value_errors();
+  // Faults are reported in the order they always were: a truncated or corrupt stream, then the
+  // grid, then a voxel value outside int32 (deferred to finish()).
+  read_voxel_data(path, path, compressed ? 0 : vox_offset, compressed, compressed ? vox_offset : 0,
+                  count, *type, h.swapped, sink);
+
+  const Grid grid = h.version == 1 ? nifti1_grid_from_itk(path, dims) : nifti2_grid(h, dims);
+  check_grid(path, grid, "pixdim[1..3] / sform");
 
   return Image{
       path.string(), std::string(voxel_type_name(*type)), std::move(sink).finish(grid), {}};

@@ -4,6 +4,7 @@
 #include <itkNrrdImageIO.h>
 
 #include <algorithm>
+#include <bit>
 #include <cctype>
 #include <charconv>
 #include <fstream>
@@ -33,6 +34,7 @@ std::string trim(std::string_view text) {
 struct NrrdLayout {
   std::string encoding = "raw";
   std::string data_file;  // empty: the data follow the header in the same file
+  std::string endian;     // "little", "big" or empty
   int64_t line_skip = 0;
   int64_t byte_skip = 0;
   uint64_t header_end = 0;  // first byte after the blank line ending an attached header
@@ -65,6 +67,11 @@ NrrdLayout scan_layout(const fs::path& path) {
     try {
       if (field == "encoding") layout.encoding = value;
       if (field == "datafile") layout.data_file = value;
+      if (field == "endian") {
+        layout.endian = value;
+        std::transform(layout.endian.begin(), layout.endian.end(), layout.endian.begin(),
+                       [](unsigned char c) { return char(std::tolower(c)); });
+      }
       if (field == "lineskip") layout.line_skip = std::stoll(value);
       if (field == "byteskip") layout.byte_skip = std::stoll(value);
     } catch (const std::exception&) {
@@ -79,14 +86,23 @@ NrrdLayout scan_layout(const fs::path& path) {
   return layout;
 }
 
+// Where raw or gzip data in this file or one detached file begin.
+struct DataPlace {
+  fs::path source;
+  uint64_t offset = 0;  // in the file
+  bool compressed = false;
+  uint64_t skip = 0;  // after inflating
+};
+
 // Refuses, before anything is allocated, data that cannot hold `needed` bytes. Checks raw and
-// gzip data in this file or one detached file; other encodings and multi-file data are left to
-// ITK, which refuses short data too.
-void check_nrrd_data(const fs::path& path, const NrrdLayout& layout, uint64_t needed) {
+// gzip data in this file or one detached file, and returns where they are (we decode those);
+// other encodings and multi-file data are left to ITK, which refuses short data too.
+std::optional<DataPlace> check_nrrd_data(const fs::path& path, const NrrdLayout& layout,
+                                         uint64_t needed) {
   const bool gzip = layout.encoding == "gzip" || layout.encoding == "gz";
-  if (!(gzip || layout.encoding == "raw")) return;
+  if (!(gzip || layout.encoding == "raw")) return std::nullopt;
   if (layout.data_file.rfind("LIST", 0) == 0 || layout.data_file.find('%') != std::string::npos)
-    return;
+    return std::nullopt;
 
   fs::path source = path;
   uint64_t offset = layout.header_end;
@@ -115,11 +131,11 @@ void check_nrrd_data(const fs::path& path, const NrrdLayout& layout, uint64_t ne
     const uint64_t available =
         layout.byte_skip < 0 ? stored : (stored > byte_skip ? stored - byte_skip : 0);
     check_data_fits(path, needed, available, false);
-    return;
+    return DataPlace{source, layout.byte_skip < 0 ? size - needed : offset + byte_skip, false, 0};
   }
+  // The exact count comes from inflating, once, while decoding (volume_data.hpp).
   check_data_fits(path, needed + byte_skip, stored, true);
-  DataStream stream(source, offset, true);
-  check_compressed_data(path, stream, byte_skip, needed);
+  return DataPlace{source, offset, true, byte_skip};
 }
 
 std::optional<std::string> dictionary_value(const itk::MetaDataDictionary& dictionary,
@@ -210,10 +226,27 @@ Image read_nrrd(const fs::path& path, const ReadOptions& options) {
   check_voxel_limit(path, dims, options.max_voxels);
   check_grid(path, header.grid, "space directions / spacings");
   const uint64_t count = header.grid.voxel_count();
-  check_nrrd_data(path, layout, count * header.component_size);
+  const uint64_t needed = count * header.component_size;
+  const std::optional<DataPlace> place = check_nrrd_data(path, layout, needed);
 
   VoxelSink sink(path, count, *header.type);
-  read_itk_voxels(*io, path, header, sink);
+  // Raw and gzip data we decode ourselves, in one pass (with libdeflate for gzip); ITK reads
+  // the rest (and multi-byte data whose byte order the header leaves open, which it refuses).
+  const bool big = layout.endian == "big";
+  const size_t size = voxel_type_size(*header.type);
+  if (place && size == header.component_size &&
+      (size == 1 || big || layout.endian == "little")) {
+    const bool swap = big != (std::endian::native == std::endian::big);
+    sink.defer_value_errors();  // stream faults first, as when the data were counted first
+    read_voxel_data(path, place->source, place->offset, place->compressed, place->skip, count,
+                    *header.type, size > 1 && swap, sink);
+  } else {
+    if (place && place->compressed) {
+      DataStream stream(place->source, place->offset, true);
+      check_compressed_data(path, stream, place->skip, needed);
+    }
+    read_itk_voxels(*io, path, header, sink);
+  }
   return Image{path.string(), std::string(voxel_type_name(*header.type)),
                std::move(sink).finish(header.grid), segments.labels};
 }

@@ -1,6 +1,9 @@
 #include "segmesh_io/obj_writer.hpp"
 
 #include <algorithm>
+#include <array>
+#include <charconv>
+#include <cstring>
 #include <cctype>
 #include <cmath>
 #include <set>
@@ -23,16 +26,21 @@ std::string material_name(const std::string& part_name, std::set<std::string>& u
   return name;
 }
 
-void append_vec(std::string& buf, const char* tag, Vec3f v) {
-  buf += tag;
-  buf += ' ';
-  buf += format_float(v.x);
-  buf += ' ';
-  buf += format_float(v.y);
-  buf += ' ';
-  buf += format_float(v.z);
-  buf += '\n';
+// "<tag> x y z\n" with each number in its shortest exact form; at most kMaxVecLine bytes.
+constexpr size_t kMaxVecLine = 3 + 3 * 17 + 1;
+char* put_vec(char* p, std::string_view tag, Vec3f v) {
+  std::memcpy(p, tag.data(), tag.size());
+  p += tag.size();
+  for (float c : {v.x, v.y, v.z}) {
+    *p++ = ' ';
+    p = std::to_chars(p, p + 16, c).ptr;
+  }
+  *p++ = '\n';
+  return p;
 }
+
+// "f a//a b//b c//c\n" (or "f a b c\n"); at most kMaxFaceLine bytes.
+constexpr size_t kMaxFaceLine = 1 + 3 * (1 + 20 + 2 + 20) + 1;
 
 }  // namespace
 
@@ -58,46 +66,71 @@ void write_obj(const PartList& parts, std::ostream& obj, std::ostream& mtl,
   }
   mtl.write(m.data(), static_cast<std::streamsize>(m.size()));
 
-  BlockWriter writer(obj);
-  std::string& buf = writer.buffer();
-  buf += "# SPACE=LPS\n# segmesh: world millimetres, LPS (x = left, y = posterior, z = superior)\n";
-  buf += "mtllib " + mtl_file_name + "\n";
+  PieceList pieces;
+  std::string head =
+      "# SPACE=LPS\n# segmesh: world millimetres, LPS (x = left, y = posterior, z = superior)\n";
+  head += "mtllib " + mtl_file_name + "\n";
   uint64_t first = 1, first_normal = 1;  // normals are numbered apart: not every part has them
   for (size_t i = 0; i < parts.size(); ++i) {
     const Part& part = *parts[i];
-    const PlacedMesh placed(part);
-    const TriMesh& mesh = placed.mesh();
-    buf += "\n# segmesh part label=" + std::to_string(part.label) +
-           " component=" + std::to_string(part.component) + " role=" +
-           std::string(role_name(part.role)) + " voxels=" + std::to_string(part.voxels) +
-           " visible=" + (part.visible ? "1" : "0") + "\n";
-    buf += "o " + one_line(part.name) + "\nusemtl " + materials[i] + "\n";
-    for (const Vec3f& p : mesh.positions) {
-      append_vec(buf, "v", p);
-      writer.maybe_flush();
-    }
-    for (const Vec3f& n : mesh.normals) {
-      append_vec(buf, "vn", n);
-      writer.maybe_flush();
-    }
+    const TriMesh& mesh = part.mesh;
+    const Placement placement(part);
+    head += "\n# segmesh part label=" + std::to_string(part.label) +
+            " component=" + std::to_string(part.component) + " role=" +
+            std::string(role_name(part.role)) + " voxels=" + std::to_string(part.voxels) +
+            " visible=" + (part.visible ? "1" : "0") + "\n";
+    head += "o " + one_line(part.name) + "\nusemtl " + materials[i] + "\n";
+    pieces.text(std::move(head));
+    head.clear();
+    constexpr size_t per_piece = kPieceBytes / kMaxVecLine;
+    pieces.items(mesh.vertex_count(), per_piece,
+                 [&mesh, placement](size_t begin, size_t end, ChunkBuffer& buffer) {
+                   char* p = buffer.room((end - begin) * kMaxVecLine);
+                   for (size_t v = begin; v < end; ++v) p = put_vec(p, "v", placement.point(mesh.positions[v]));
+                   buffer.commit(p);
+                   return buffer.view();
+                 });
+    pieces.items(mesh.normals.size(), per_piece,
+                 [&mesh, placement](size_t begin, size_t end, ChunkBuffer& buffer) {
+                   char* p = buffer.room((end - begin) * kMaxVecLine);
+                   for (size_t v = begin; v < end; ++v) p = put_vec(p, "vn", placement.normal(mesh.normals[v]));
+                   buffer.commit(p);
+                   return buffer.view();
+                 });
     const bool normals = !mesh.normals.empty();
-    for (size_t t = 0; t < mesh.indices.size(); t += 3) {
-      buf += 'f';
-      for (int c = 0; c < 3; ++c) {
-        buf += ' ';
-        buf += std::to_string(first + mesh.indices[t + c]);
-        if (normals) {
-          buf += "//";
-          buf += std::to_string(first_normal + mesh.indices[t + c]);
-        }
-      }
-      buf += '\n';
-      writer.maybe_flush();
-    }
+    pieces.items(mesh.triangle_count(), kPieceBytes / kMaxFaceLine,
+                 [&mesh, placement, normals, first, first_normal](size_t begin, size_t end,
+                                                                   ChunkBuffer& buffer) {
+                   char* p = buffer.room((end - begin) * kMaxFaceLine);
+                   for (size_t t = begin; t < end; ++t) {
+                     const std::array<uint32_t, 3> c = placement.corners(mesh, t);
+                     *p++ = 'f';
+                     for (uint32_t index : c) {
+                       *p++ = ' ';
+                       char* number = p;
+                       p = std::to_chars(p, p + 20, first + index).ptr;
+                       if (normals) {
+                         *p++ = '/';
+                         *p++ = '/';
+                         if (first_normal == first) {  // the same number again
+                           const size_t digits = static_cast<size_t>(p - 2 - number);
+                           std::memcpy(p, number, digits);
+                           p += digits;
+                         } else {
+                           p = std::to_chars(p, p + 20, first_normal + index).ptr;
+                         }
+                       }
+                     }
+                     *p++ = '\n';
+                   }
+                   buffer.commit(p);
+                   return buffer.view();
+                 });
     first += mesh.vertex_count();
     first_normal += mesh.normals.size();
   }
-  writer.flush();
+  pieces.text(std::move(head));
+  pieces.write(obj);
 }
 
 }  // namespace segmesh

@@ -8,7 +8,8 @@
 // unique): Kd the base colour, Ks/Ns a Blinn-Phong approximation for old readers, and the PBR
 // extension keys Pr (roughness) and Pm (metallic). Numbers are written in their shortest exact
 // form, so positions read back bit-identical. Coordinates are world millimetres, LPS; a moved part
-// is written where it was moved to. Cost: one pass, text.
+// is written where it was moved to. Cost: one pass, text formatted with std::to_chars in pieces
+// in parallel (mesh_io::write_pieces).
 #pragma once
 
 #include <ostream>

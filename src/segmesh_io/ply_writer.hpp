@@ -10,7 +10,8 @@
 //   comment part vertices=8 faces=12 label=1 component=1 role=bone voxels=0 visible=1
 //           color=0.95,0.93,0.88 metallic=0 roughness=0.6 name=left tibia
 // Coordinates are world millimetres, LPS; a moved part is written where it was moved to.
-// Cost: one pass, 12-28 bytes per vertex and 13 per triangle.
+// Cost: one pass, 12-28 bytes per vertex and 13 per triangle, streamed in pieces formatted in
+// parallel (mesh_io::write_pieces); a moved part is transformed as it is written, not copied.
 #pragma once
 
 #include <ostream>

@@ -18,9 +18,12 @@
 //   (NIfTI scl_slope/scl_inter, DICOM rescale slope/intercept) keeps integers as long as every
 //   rescaled value is a whole number. Image::voxel_type names the type stored in the file.
 // - Before allocating anything, the header is checked: 3-D (a 4-D/5-D file only if its extra
-//   axes have size 1), positive finite spacing, at most max_voxels voxels, and a file that holds
-//   all the data it claims (compressed streams are inflated once to count, and must end
-//   properly). ITK alone would accept truncated or inconsistent files.
+//   axes have size 1), positive finite spacing, at most max_voxels voxels, and a file that can
+//   hold all the data it claims (raw data: the file's size; compressed data: the best ratio
+//   deflate reaches). Compressed data are inflated once, straight into the volume, and counted
+//   as they are: memory is touched only as data arrive (all at once only for a gzip member whose
+//   trailer agrees with the header), a short stream is refused with the exact byte counts, and
+//   the stream must end properly. ITK alone would accept truncated or inconsistent files.
 //
 // Errors: segmesh::Error with one line naming the file first, saying what is wrong and what to
 // do ("seg.nii.gz: file is truncated (expected 1048576 bytes of image data, found 1000000)").

@@ -1,6 +1,7 @@
 #include "segmesh_io/stl_writer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <limits>
 
 namespace segmesh {
@@ -15,8 +16,6 @@ void write_stl(const PartList& parts, std::ostream& out, std::string_view name) 
                 std::to_string(triangles) + " (write PLY or GLB instead)");
   }
 
-  BlockWriter writer(out);
-  std::string& buf = writer.buffer();
   // 3D Slicer reads "SPACE=LPS" in an STL header as the coordinate system of the file.
   const std::string_view suffix = " SPACE=LPS mm";
   std::string header = "segmesh " + one_line(name) + std::string(suffix);
@@ -24,26 +23,33 @@ void write_stl(const PartList& parts, std::ostream& out, std::string_view name) 
     header = "segmesh " + one_line(name).substr(0, 80 - 8 - suffix.size()) + std::string(suffix);
   }
   header.resize(80, ' ');
-  buf += header;
-  append_le<uint32_t>(buf, static_cast<uint32_t>(triangles));
+  append_le<uint32_t>(header, static_cast<uint32_t>(triangles));
 
+  PieceList pieces;
+  pieces.text(std::move(header));
   for (const Part* part : parts) {
-    const PlacedMesh placed(*part);
-    const TriMesh& m = placed.mesh();
-    for (size_t t = 0; t < m.indices.size(); t += 3) {
-      const Vec3f a = m.positions[m.indices[t]];
-      const Vec3f b = m.positions[m.indices[t + 1]];
-      const Vec3f c = m.positions[m.indices[t + 2]];
-      for (const Vec3f& v : {face_normal(a, b, c), a, b, c}) {
-        append_le(buf, v.x);
-        append_le(buf, v.y);
-        append_le(buf, v.z);
-      }
-      append_le<uint16_t>(buf, 0);
-      writer.maybe_flush();
-    }
+    const TriMesh& m = part->mesh;
+    const Placement placement(*part);
+    pieces.items(m.triangle_count(), kPieceBytes / 50,
+                 [&m, placement](size_t begin, size_t end, ChunkBuffer& buffer) {
+                   char* p = buffer.room((end - begin) * 50);
+                   for (size_t t = begin; t < end; ++t) {
+                     const std::array<uint32_t, 3> c = placement.corners(m, t);
+                     const Vec3f a = placement.point(m.positions[c[0]]);
+                     const Vec3f b = placement.point(m.positions[c[1]]);
+                     const Vec3f d = placement.point(m.positions[c[2]]);
+                     for (const Vec3f& v : {face_normal(a, b, d), a, b, d}) {
+                       p = put_le(p, v.x);
+                       p = put_le(p, v.y);
+                       p = put_le(p, v.z);
+                     }
+                     p = put_le<uint16_t>(p, 0);
+                   }
+                   buffer.commit(p);
+                   return buffer.view();
+                 });
   }
-  writer.flush();
+  pieces.write(out);
 }
 
 }  // namespace segmesh

@@ -6,7 +6,8 @@
 // zero uint16 attribute. All parts' triangles go into one solid; STL has no names, materials or
 // shared vertices, so read_mesh() welds identical positions to recover the topology.
 // Coordinates are world millimetres, LPS; a moved part is written where it was moved to.
-// Cost: one pass over the triangles, 50 bytes each.
+// Cost: one pass over the triangles, 50 bytes each, streamed in pieces formatted in parallel
+// (mesh_io::write_pieces).
 #pragma once
 
 #include <ostream>

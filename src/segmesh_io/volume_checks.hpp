@@ -52,7 +52,7 @@ void check_grid(const std::filesystem::path& path, const Grid& grid,
 // Refuses a file whose data cannot hold `needed` bytes. `available` is the exact number of data
 // bytes when !compressed; for compressed data it is the compressed size, and the check is the
 // bound deflate can reach (about 1032:1), which catches absurd headers before anything is
-// allocated (exact counts for compressed data come from counting the inflated stream).
+// allocated (exact counts for compressed data come from inflating the stream).
 void check_data_fits(const std::filesystem::path& path, uint64_t needed, uint64_t available,
                      bool compressed);
 

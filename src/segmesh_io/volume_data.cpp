@@ -1,5 +1,10 @@
 #include "segmesh_io/volume_data.hpp"
 
+#include <fcntl.h>
+#include <libdeflate.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -130,19 +135,68 @@ bool is_integer(VoxelType type) {
 
 void swap_bytes_inplace(void* data, size_t count, size_t size) {
   auto* bytes = static_cast<unsigned char*>(data);
-  for (size_t i = 0; i < count; ++i) std::reverse(bytes + i * size, bytes + (i + 1) * size);
+  const auto swap_each = [&](auto word) {
+    using W = decltype(word);
+    for (size_t i = 0; i < count; ++i) {
+      W w;
+      std::memcpy(&w, bytes + i * sizeof(W), sizeof(W));
+      if constexpr (sizeof(W) == 2) w = __builtin_bswap16(w);
+      if constexpr (sizeof(W) == 4) w = __builtin_bswap32(w);
+      if constexpr (sizeof(W) == 8) w = __builtin_bswap64(w);
+      std::memcpy(bytes + i * sizeof(W), &w, sizeof(W));
+    }
+  };
+  switch (size) {
+    case 1:
+      return;
+    case 2:
+      return swap_each(uint16_t{});
+    case 4:
+      return swap_each(uint32_t{});
+    case 8:
+      return swap_each(uint64_t{});
+    default:
+      for (size_t i = 0; i < count; ++i) std::reverse(bytes + i * size, bytes + (i + 1) * size);
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
 // VoxelSink
+//
+// Values are converted in blocks of kBlockBytes file bytes, copied (and byte-swapped) into a
+// local buffer first: the conversion loops then see no aliasing and vectorise, and in-place
+// decoding (stage()) is safe because a block's file bytes are read before its values are written.
+// Storage grows block by block inside a reservation of the whole volume, so each block's fresh
+// memory is written while it is in cache and never before the file has supplied its data.
+
+namespace {
+constexpr size_t kBlockBytes = 16384;
+// stage() refuses a prefix larger than this (a NIfTI extension of megabytes): it would stay in
+// the volume's capacity. Such files are decoded block by block instead.
+constexpr size_t kMaxStagedPrefix = size_t(1) << 20;
+}  // namespace
 
 VoxelSink::VoxelSink(fs::path path, size_t count, VoxelType file_type, Rescale rescale)
-    : path_(std::move(path)), count_(count), rescale_(rescale), is_float_(!is_integer(file_type)) {
+    : path_(std::move(path)),
+      count_(count),
+      rescale_(rescale),
+      file_is_float_(!is_integer(file_type)),
+      is_float_(file_is_float_) {
   if (is_float_) {
-    floats_.resize(count);
+    floats_.reserve(count);
   } else {
-    ints_.resize(count);
+    ints_.reserve(count);
   }
+}
+
+int32_t* VoxelSink::int_room(size_t n) {
+  if (staged_ != Staged::ints) ints_.resize(filled_ + n);  // within the reservation: no move
+  return ints_.data() + filled_;
+}
+
+float* VoxelSink::float_room(size_t n) {
+  if (staged_ != Staged::floats) floats_.resize(filled_ + n);
+  return floats_.data() + filled_;
 }
 
 void VoxelSink::append(VoxelType type, const void* data, size_t n, bool swap_bytes) {
@@ -154,24 +208,49 @@ void VoxelSink::append(VoxelType type, const void* data, size_t n, bool swap_byt
 
 template <class T>
 void VoxelSink::append_typed(const unsigned char* data, size_t n, bool swap_bytes) {
+  constexpr size_t per_block = kBlockBytes / sizeof(T);
+  alignas(64) T block[per_block];
+  for (size_t done = 0; done < n;) {
+    const size_t k = std::min(per_block, n - done);
+    std::memcpy(static_cast<void*>(block), data + done * sizeof(T), k * sizeof(T));
+    if (swap_bytes) swap_bytes_inplace(block, k, sizeof(T));
+    convert_block(block, k);
+    done += k;
+  }
+}
+
+template <class T>
+void VoxelSink::convert_block(const T* values, size_t n) {
+  if (value_error_) {  // deferred: the volume is refused anyway, the values are only counted
+    filled_ += n;
+    return;
+  }
   size_t i = 0;
   if (!is_float_) {
-    int32_t* out = ints_.data() + filled_;
+    int32_t* out = int_room(n);
     if constexpr (std::is_integral_v<T>) {
       if (rescale_.identity()) {
-        for (; i < n; ++i) {
-          const T value = load_value<T>(data + i * sizeof(T), swap_bytes);
-          if constexpr (!std::in_range<int32_t>(std::numeric_limits<T>::min()) ||
-                        !std::in_range<int32_t>(std::numeric_limits<T>::max())) {
-            if (!std::in_range<int32_t>(value)) {
-              throw file_error(path_, "voxel value " + value_text(value) +
-                                          " does not fit a 32-bit signed integer, which segmesh "
-                                          "uses for labels; relabel the volume with values from "
-                                          "-2147483648 to 2147483647");
+        if constexpr (!std::in_range<int32_t>(std::numeric_limits<T>::min()) ||
+                      !std::in_range<int32_t>(std::numeric_limits<T>::max())) {
+          bool outside = false;
+          for (size_t k = 0; k < n; ++k) outside |= !std::in_range<int32_t>(values[k]);
+          if (outside) {
+            for (size_t k = 0; k < n; ++k) {
+              if (!std::in_range<int32_t>(values[k])) {
+                Error error = file_error(path_, "voxel value " + value_text(values[k]) +
+                                                    " does not fit a 32-bit signed integer, "
+                                                    "which segmesh uses for labels; relabel the "
+                                                    "volume with values from -2147483648 to "
+                                                    "2147483647");
+                if (!defer_) throw error;
+                value_error_ = std::move(error);
+                filled_ += n;
+                return;
+              }
             }
           }
-          out[i] = static_cast<int32_t>(value);
         }
+        for (size_t k = 0; k < n; ++k) out[k] = static_cast<int32_t>(values[k]);
         filled_ += n;
         return;
       }
@@ -179,9 +258,7 @@ void VoxelSink::append_typed(const unsigned char* data, size_t n, bool swap_byte
     // Rescaled or floating-point data in an integer file (DICOM after ITK's rescale): stays
     // int32 while every value is a whole number in range.
     for (; i < n; ++i) {
-      const double value =
-          as_double(load_value<T>(data + i * sizeof(T), swap_bytes)) * rescale_.slope +
-          rescale_.intercept;
+      const double value = as_double(values[i]) * rescale_.slope + rescale_.intercept;
       if (!(value == std::nearbyint(value) && value >= INT32_MIN && value <= INT32_MAX)) break;
       out[i] = static_cast<int32_t>(value);
     }
@@ -189,27 +266,84 @@ void VoxelSink::append_typed(const unsigned char* data, size_t n, bool swap_byte
     if (i == n) return;
     promote_to_float();
   }
-  float* out = floats_.data() + filled_;
+  float* out = float_room(n - i);
   for (size_t k = i; k < n; ++k) {
-    const double value =
-        as_double(load_value<T>(data + k * sizeof(T), swap_bytes)) * rescale_.slope +
-        rescale_.intercept;
+    const double value = as_double(values[k]) * rescale_.slope + rescale_.intercept;
     out[k - i] = static_cast<float>(value);
   }
   filled_ += n - i;
 }
 
 void VoxelSink::promote_to_float() {
-  floats_.resize(count_);
-  std::copy(ints_.begin(), ints_.begin() + static_cast<std::ptrdiff_t>(filled_), floats_.begin());
-  std::vector<int32_t>().swap(ints_);
+  floats_.reserve(count_);
+  floats_.assign(ints_.begin(), ints_.begin() + static_cast<std::ptrdiff_t>(filled_));
+  // Staged: ints_ still holds the file bytes being converted; finish() frees it.
+  if (staged_ != Staged::ints) std::vector<int32_t>().swap(ints_);
   is_float_ = true;
 }
 
+unsigned char* VoxelSink::stage(size_t prefix, VoxelType type) {
+  const size_t size = voxel_type_size(type);
+  if (size > 4 || filled_ != 0 || staged_ != Staged::none || prefix > kMaxStagedPrefix) {
+    return nullptr;
+  }
+  // File bytes end where the storage ends; the first voxel's bytes start at (4 - size) * count
+  // or later, so widening block by block from the front writes only bytes already read.
+  const size_t elements = count_ + (prefix + 3) / 4 + 16;
+  unsigned char* storage;
+  if (is_float_) {
+    floats_.resize(elements);
+    storage = reinterpret_cast<unsigned char*>(floats_.data());
+    staged_ = Staged::floats;
+  } else {
+    ints_.resize(elements);
+    storage = reinterpret_cast<unsigned char*>(ints_.data());
+    staged_ = Staged::ints;
+  }
+  staged_at_ = elements * 4 - count_ * size;
+  return storage + staged_at_ - prefix;
+}
+
+void VoxelSink::append_staged(VoxelType type, bool swap_bytes) {
+  if (staged_ == Staged::none || filled_ != 0) {
+    throw std::logic_error("VoxelSink: nothing staged");
+  }
+  const unsigned char* storage = staged_ == Staged::ints
+                                     ? reinterpret_cast<const unsigned char*>(ints_.data())
+                                     : reinterpret_cast<const unsigned char*>(floats_.data());
+  append(type, storage + staged_at_, count_, swap_bytes);
+}
+
+void VoxelSink::clear() {
+  filled_ = 0;
+  value_error_.reset();
+  staged_ = Staged::none;
+  staged_at_ = 0;
+  is_float_ = file_is_float_;
+  std::vector<int32_t>().swap(ints_);
+  std::vector<float>().swap(floats_);
+  if (is_float_) {
+    floats_.reserve(count_);
+  } else {
+    ints_.reserve(count_);
+  }
+}
+
 std::variant<LabelVolume, ScalarVolume> VoxelSink::finish(const Grid& grid) && {
+  if (value_error_) throw *value_error_;
   if (filled_ != count_ || grid.voxel_count() != count_) {
     throw std::logic_error("VoxelSink: voxel count does not match the grid");
   }
+  if (staged_ == Staged::ints) {
+    if (is_float_) {
+      std::vector<int32_t>().swap(ints_);
+    } else {
+      ints_.resize(count_);  // keeps the capacity: no copy of the volume
+    }
+  } else if (staged_ == Staged::floats) {
+    floats_.resize(count_);
+  }
+  staged_ = Staged::none;
   if (is_float_) return ScalarVolume{grid, std::move(floats_)};
   return LabelVolume{grid, std::move(ints_)};
 }
@@ -329,7 +463,9 @@ void read_voxels(const fs::path& path, DataStream& data, uint64_t count, VoxelTy
                  bool swap_bytes, VoxelSink& sink) {
   const size_t size = voxel_type_size(type);
   const uint64_t needed = count * size;
-  std::vector<unsigned char> buffer(size_t(1) << 20);  // a multiple of every element size
+  // A multiple of every element size, small enough to stay in cache between the read (or
+  // inflate) and the conversion.
+  std::vector<unsigned char> buffer(size_t(1) << 18);
   uint64_t done = 0;
   while (done < needed) {
     const size_t want = static_cast<size_t>(std::min<uint64_t>(buffer.size(), needed - done));
@@ -346,6 +482,110 @@ void check_compressed_data(const fs::path& path, DataStream& data, uint64_t skip
   if (inflated < skip + needed)
     throw truncated_error(path, needed, inflated > skip ? inflated - skip : 0);
   data.finish();
+}
+
+namespace {
+
+// The bytes of a file from `offset` to its end, mapped read-only (read into memory where mapping
+// fails). Empty when the file cannot be read: the caller then takes the streaming path, which
+// reports the problem.
+class FileBytes {
+ public:
+  FileBytes(const fs::path& path, uint64_t offset) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return;
+    struct stat st {};
+    if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && uint64_t(st.st_size) > offset) {
+      const auto file_size = static_cast<uint64_t>(st.st_size);
+      void* map = ::mmap(nullptr, file_size, PROT_READ, MAP_PRIVATE, fd, 0);
+      if (map != MAP_FAILED) {
+        ::madvise(map, file_size, MADV_SEQUENTIAL);
+        map_ = map;
+        map_size_ = file_size;
+        data_ = static_cast<const unsigned char*>(map) + offset;
+        size_ = file_size - offset;
+      } else {
+        copy_.resize(file_size - offset);
+        size_t got = 0;
+        while (got < copy_.size()) {
+          const ssize_t n = ::pread(fd, copy_.data() + got, copy_.size() - got,
+                                    static_cast<off_t>(offset + got));
+          if (n <= 0) break;
+          got += static_cast<size_t>(n);
+        }
+        if (got == copy_.size()) {
+          data_ = copy_.data();
+          size_ = copy_.size();
+        }
+      }
+    }
+    ::close(fd);
+  }
+  ~FileBytes() {
+    if (map_) ::munmap(map_, map_size_);
+  }
+  FileBytes(const FileBytes&) = delete;
+  FileBytes& operator=(const FileBytes&) = delete;
+
+  const unsigned char* data() const { return data_; }
+  size_t size() const { return size_; }
+
+ private:
+  void* map_ = nullptr;
+  size_t map_size_ = 0;
+  std::vector<unsigned char> copy_;
+  const unsigned char* data_ = nullptr;
+  size_t size_ = 0;
+};
+
+// The fast path for the common .nii.gz (and gzip NRRD): one gzip member whose trailer (ISIZE,
+// the inflated size mod 2^32) agrees with what the header claims. Only then is the volume's
+// storage touched; libdeflate inflates into it and the sink widens the voxels in place. False,
+// with the sink as new, for anything else: the streaming path then decodes and diagnoses.
+bool inflate_in_place(const fs::path& source, uint64_t offset, uint64_t skip, uint64_t count,
+                      VoxelType type, bool swap_bytes, VoxelSink& sink) {
+  const uint64_t total = skip + count * voxel_type_size(type);
+  if (total > std::numeric_limits<size_t>::max() / 2) return false;
+  const FileBytes in(source, offset);
+  const unsigned char* bytes = in.data();
+  const size_t size = in.size();
+  if (size < 18 || bytes[0] != 0x1f || bytes[1] != 0x8b) return false;
+  const uint32_t isize = uint32_t(bytes[size - 4]) | uint32_t(bytes[size - 3]) << 8 |
+                         uint32_t(bytes[size - 2]) << 16 | uint32_t(bytes[size - 1]) << 24;
+  if (isize != static_cast<uint32_t>(total)) return false;
+  unsigned char* room = sink.stage(static_cast<size_t>(skip), type);
+  if (!room) return false;
+
+  libdeflate_decompressor* decompressor = libdeflate_alloc_decompressor();
+  if (!decompressor) {
+    sink.clear();
+    return false;
+  }
+  size_t used = 0, produced = 0;
+  const libdeflate_result result = libdeflate_gzip_decompress_ex(
+      decompressor, bytes, size, room, static_cast<size_t>(total), &used, &produced);
+  libdeflate_free_decompressor(decompressor);
+  // Another member after the first (bgzip) must be inflated and checked too: streaming path.
+  const bool more = size - used >= 2 && bytes[used] == 0x1f && bytes[used + 1] == 0x8b;
+  if (result != LIBDEFLATE_SUCCESS || produced != total || more) {
+    sink.clear();
+    return false;
+  }
+  sink.append_staged(type, swap_bytes);
+  return true;
+}
+
+}  // namespace
+
+void read_voxel_data(const fs::path& path, const fs::path& source, uint64_t offset,
+                     bool compressed, uint64_t skip, uint64_t count, VoxelType type,
+                     bool swap_bytes, VoxelSink& sink) {
+  if (compressed && inflate_in_place(source, offset, skip, count, type, swap_bytes, sink)) return;
+  DataStream data(source, offset, compressed);
+  if (skip > 0 && data.skip(skip) < skip) {
+    throw truncated_error(path, count * voxel_type_size(type), 0);
+  }
+  read_voxels(path, data, count, type, swap_bytes, sink);
 }
 
 }  // namespace segmesh::volume_io
