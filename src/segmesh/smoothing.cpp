@@ -4,15 +4,17 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <atomic>
-#include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <memory>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
+#include "segmesh/mesh_adjacency.hpp"
 #include "segmesh/vec3.hpp"
 
 namespace segmesh {
@@ -20,9 +22,10 @@ namespace segmesh {
 namespace {
 
 // Vertices per task: enough work to amortise scheduling, small enough to balance two to a few
-// dozen cores. Results never depend on it.
-constexpr size_t kVertexGrain = 2048;
-constexpr size_t kTriangleGrain = 4096;
+// dozen cores. Triangles per block of the volume sums: the blocks, not the threads, fix the order
+// in which floating-point partial sums are added. Results never depend on the thread count.
+constexpr size_t kVertexGrain = 4096;
+constexpr size_t kTriangleBlock = 8192;
 
 template <class F>
 void for_each_vertex(size_t n, F&& body) {
@@ -32,91 +35,105 @@ void for_each_vertex(size_t n, F&& body) {
                     });
 }
 
-// Compressed rows: row i is entries[offsets[i] .. offsets[i + 1]).
-struct Rows {
-  std::vector<size_t> offsets;
-  std::vector<uint32_t> entries;
+// f(first, last) over fixed blocks of [0, n), the partial results added in block order.
+template <class T, class F>
+T block_sum(size_t n, F&& f) {
+  const size_t blocks = (n + kTriangleBlock - 1) / kTriangleBlock;
+  std::vector<T> partial(blocks);
+  tbb::parallel_for(size_t{0}, blocks, [&](size_t b) {
+    partial[b] = f(b * kTriangleBlock, std::min(n, (b + 1) * kTriangleBlock));
+  });
+  T total{};
+  for (const T& p : partial) total = total + p;
+  return total;
+}
 
-  size_t size(size_t i) const { return offsets[i + 1] - offsets[i]; }
-  const uint32_t* begin(size_t i) const { return entries.data() + offsets[i]; }
-  const uint32_t* end(size_t i) const { return entries.data() + offsets[i + 1]; }
+inline Vec3d to_d(const Vec3f& v) { return {v.x, v.y, v.z}; }
+inline Vec3d to_d(const Vec3d& v) { return v; }
+template <class T>
+T from_d(const Vec3d& v);
+template <>
+inline Vec3f from_d<Vec3f>(const Vec3d& v) { return to_float(v); }
+template <>
+inline Vec3d from_d<Vec3d>(const Vec3d& v) { return v; }
+
+// The mean of x over a non-empty row, summed in double.
+template <class Index, class V>
+inline Vec3d row_mean(const Index* first, const Index* last, const V* x) {
+  double sx = 0, sy = 0, sz = 0;
+  for (const Index* j = first; j != last; ++j) {
+    const V& p = x[*j];
+    sx += p.x;
+    sy += p.y;
+    sz += p.z;
+  }
+  const double inv = 1.0 / double(last - first);
+  return {sx * inv, sy * inv, sz * inv};
+}
+
+// The vertex graph and the triangles at each vertex. Closed oriented manifold meshes (Marching
+// Cubes, Dual Contouring) keep one array: each vertex's neighbours in fan order, consecutive
+// neighbours spanning its triangles. Other meshes keep the corner rows for the triangles and
+// separate rows of neighbours (the other corners of the vertex's triangles, each once, sorted,
+// the vertex itself excluded).
+template <class Index>
+struct Adjacency {
+  VertexRows<Index> rows;  // rings, or corner rows
+  bool fans = false;
+  VertexRows<Index> neighbours;  // meshes that are not closed fans only
+
+  const VertexRows<Index>& graph() const { return fans ? rows : neighbours; }
+
+  // Twice the area vector of the triangles at vertex i: sum of (b - p_i) x (c - p_i) over its
+  // triangles (i, b, c), for positions pos(j) (double).
+  template <class Pos>
+  Vec3d area_normal(const std::vector<uint32_t>& idx, size_t i, Pos&& pos) const {
+    Vec3d sum{};
+    const size_t d = rows.size(i);
+    if (d == 0) return sum;
+    const Vec3d p = pos(i);
+    const Index* r = rows.begin(i);
+    if (fans) {
+      const Vec3d first = pos(r[0]) - p;
+      Vec3d prev = first;
+      for (size_t k = 1; k < d; ++k) {
+        const Vec3d cur = pos(r[k]) - p;
+        sum = sum + cross(prev, cur);
+        prev = cur;
+      }
+      return sum + cross(prev, first);
+    }
+    for (size_t k = 0; k < d; ++k)
+      sum = sum + cross(pos(corner_next(idx, r[k])) - p, pos(corner_prev(idx, r[k])) - p);
+    return sum;
+  }
 };
 
-// offsets[i] = sum of counts[0 .. i), offsets[n] = the total.
-std::vector<size_t> prefix_offsets(const std::vector<uint32_t>& counts) {
-  std::vector<size_t> offsets(counts.size() + 1);
-  size_t sum = 0;
-  for (size_t i = 0; i < counts.size(); ++i) {
-    offsets[i] = sum;
-    sum += counts[i];
-  }
-  offsets[counts.size()] = sum;
-  return offsets;
-}
-
-// Vertex -> the triangles using it, each row in increasing triangle order (a triangle repeating a
-// vertex appears once per corner). Counted and filled in parallel with atomic counters; the fill
-// order within a row depends on the schedule, so every row is sorted afterwards, which makes the
-// result independent of it.
-Rows vertex_triangles(const TriMesh& mesh) {
-  const size_t nv = mesh.positions.size();
-  const size_t nt = mesh.triangle_count();
-  const auto& idx = mesh.indices;
-  std::vector<uint32_t> counts(nv, 0);
-  tbb::parallel_for(
-      tbb::blocked_range<size_t>(0, nt, kTriangleGrain), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t h = 3 * r.begin(); h != 3 * r.end(); ++h) {
-          assert(idx[h] < nv);
-          std::atomic_ref<uint32_t>(counts[idx[h]]).fetch_add(1, std::memory_order_relaxed);
-        }
-      });
-  Rows rows;
-  rows.offsets = prefix_offsets(counts);
-  rows.entries.resize(rows.offsets[nv]);
-  std::vector<size_t> cursor(rows.offsets.begin(), rows.offsets.end() - 1);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, nt, kTriangleGrain),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t t = r.begin(); t != r.end(); ++t)
-                        for (int c = 0; c < 3; ++c) {
-                          const size_t slot = std::atomic_ref<size_t>(cursor[idx[3 * t + c]])
-                                                  .fetch_add(1, std::memory_order_relaxed);
-                          rows.entries[slot] = static_cast<uint32_t>(t);
-                        }
-                    });
-  for_each_vertex(nv, [&](size_t i) {
-    std::sort(rows.entries.begin() + static_cast<ptrdiff_t>(rows.offsets[i]),
-              rows.entries.begin() + static_cast<ptrdiff_t>(rows.offsets[i + 1]));
-  });
-  return rows;
-}
-
-// Vertex -> its edge neighbours: the other corners of its triangles, each once, sorted, itself
-// excluded. Two parallel passes over the vertices (count, then fill), each gathering a vertex's
-// corners into a per-task buffer; deterministic because each row is a sorted set.
-Rows vertex_neighbours(const TriMesh& mesh, const Rows& triangles) {
-  const size_t nv = mesh.positions.size();
-  const auto& idx = mesh.indices;
+// Rows of unique neighbours from corner rows: two parallel passes (count, fill), each gathering a
+// vertex's corners into a per-task buffer; deterministic because each row is a sorted set.
+template <class Index>
+VertexRows<Index> unique_neighbours(const std::vector<uint32_t>& idx, const VertexRows<Index>& corners) {
+  const size_t nv = corners.offsets.size() - 1;
   auto gather = [&](size_t i, std::vector<uint32_t>& buffer) {
     buffer.clear();
-    for (const uint32_t* t = triangles.begin(i); t != triangles.end(i); ++t)
-      for (int c = 0; c < 3; ++c) {
-        const uint32_t v = idx[3 * size_t{*t} + c];
+    for (const Index* c = corners.begin(i); c != corners.end(i); ++c) {
+      for (const uint32_t v : {corner_next(idx, *c), corner_prev(idx, *c)})
         if (v != i) buffer.push_back(v);
-      }
+    }
     std::sort(buffer.begin(), buffer.end());
     buffer.erase(std::unique(buffer.begin(), buffer.end()), buffer.end());
   };
-  std::vector<uint32_t> counts(nv);
+  VertexRows<Index> rows;
+  rows.offsets.assign(nv + 1, 0);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, nv, kVertexGrain),
                     [&](const tbb::blocked_range<size_t>& r) {
                       std::vector<uint32_t> buffer;
                       for (size_t i = r.begin(); i != r.end(); ++i) {
                         gather(i, buffer);
-                        counts[i] = static_cast<uint32_t>(buffer.size());
+                        rows.offsets[i + 1] = static_cast<Index>(buffer.size());
                       }
                     });
-  Rows rows;
-  rows.offsets = prefix_offsets(counts);
+  for (size_t i = 0; i < nv; ++i) rows.offsets[i + 1] += rows.offsets[i];
   rows.entries.resize(rows.offsets[nv]);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, nv, kVertexGrain),
                     [&](const tbb::blocked_range<size_t>& r) {
@@ -130,33 +147,24 @@ Rows vertex_neighbours(const TriMesh& mesh, const Rows& triangles) {
   return rows;
 }
 
-// The average of the neighbours' positions; the caller makes sure the row is not empty.
-Vec3d neighbour_average(const Rows& nb, size_t i, const std::vector<Vec3d>& p) {
-  Vec3d sum{};
-  for (const uint32_t* j = nb.begin(i); j != nb.end(i); ++j) sum = sum + p[*j];
-  return (1.0 / double(nb.size(i))) * sum;
+template <class Index>
+Adjacency<Index> build_adjacency(const std::vector<uint32_t>& idx, size_t nv, bool with_neighbours) {
+  Adjacency<Index> a;
+  a.rows = vertex_corners<Index>(idx, nv);
+  a.fans = corners_to_rings(idx, a.rows);
+  if (a.fans) return a;
+  a.rows = vertex_corners<Index>(idx, nv);  // the failed conversion left them half rewritten
+  if (with_neighbours) a.neighbours = unique_neighbours(idx, a.rows);
+  return a;
 }
 
-// out = in + factor * L(in); vertices without neighbours are copied.
-void laplacian_sweep(const Rows& nb, const std::vector<Vec3d>& in, std::vector<Vec3d>& out,
-                     double factor) {
-  for_each_vertex(in.size(), [&](size_t i) {
-    out[i] = nb.size(i) == 0 ? in[i] : in[i] + factor * (neighbour_average(nb, i, in) - in[i]);
-  });
-}
-
-void compute_normals(TriMesh& mesh, const Rows& triangles) {
-  const auto& idx = mesh.indices;
-  const auto& pos = mesh.positions;
-  mesh.normals.resize(pos.size());
-  for_each_vertex(pos.size(), [&](size_t i) {
-    Vec3d sum{};
-    for (const uint32_t* t = triangles.begin(i); t != triangles.end(i); ++t) {
-      const Vec3d a = to_double(pos[idx[3 * size_t{*t}]]);
-      const Vec3d b = to_double(pos[idx[3 * size_t{*t} + 1]]);
-      const Vec3d c = to_double(pos[idx[3 * size_t{*t} + 2]]);
-      sum = sum + cross(b - a, c - a);
-    }
+// Unit normals from the area-weighted sum at each vertex; (0, 0, 1) where that sum vanishes.
+template <class Index>
+void write_normals(TriMesh& mesh, const Adjacency<Index>& adj) {
+  const Vec3f* pos = mesh.positions.data();
+  mesh.normals.resize(mesh.positions.size());
+  for_each_vertex(mesh.positions.size(), [&](size_t i) {
+    const Vec3d sum = adj.area_normal(mesh.indices, i, [&](size_t j) { return to_d(pos[j]); });
     const double length = norm(sum);
     mesh.normals[i] =
         length > 0 && std::isfinite(length) ? to_float((1.0 / length) * sum) : Vec3f{0, 0, 1};
@@ -174,137 +182,372 @@ void check_options(const SmoothOptions& o) {
   if (!(o.pass_band > 0 && o.pass_band <= 2)) fail("pass_band must be in (0, 2]");
 }
 
-// The smoothing proper, on double positions relative to a centre; returns the new positions.
+// Cancellation check before and progress report after each iteration.
+class Ticker {
+ public:
+  Ticker(Progress& progress, int total) : progress_(progress), total_(total) {}
+  void begin() const { throw_if_cancelled(progress_); }
+  void end() { progress_.update(double(++done_) / double(total_)); }
+
+ private:
+  Progress& progress_;
+  int total_, done_ = 0;
+};
+
+// Float triples: the filters' state and sums are small quantities (displacements, differences
+// of neighbouring positions), which float holds to ~1e-7 of their size.
+inline Vec3f add(Vec3f a, Vec3f b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline Vec3f sub(Vec3f a, Vec3f b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline Vec3f mul(float s, Vec3f a) { return {s * a.x, s * a.y, s * a.z}; }
+inline Vec3f fcross(Vec3f a, Vec3f b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+// n float triples, allocated without initialisation (every pass writes what a later one reads;
+// Vec3f is an implicit-lifetime aggregate, so the storage holds its objects from the start).
+class Vec3fBuffer {
+ public:
+  explicit Vec3fBuffer(size_t n) : p_(static_cast<Vec3f*>(::operator new(n * sizeof(Vec3f)))) {}
+  Vec3f* data() const { return p_.get(); }
+
+ private:
+  struct Free {
+    void operator()(Vec3f* p) const { ::operator delete(p); }
+  };
+  std::unique_ptr<Vec3f, Free> p_;
+};
+
+// The filters, on displacements D from the original positions o (the mesh's): the smoothed
+// position is o + D. Every update rule is rewritten for D with the umbrella vector of the original
+// positions, L0_i = avg_j (o_j - o_i), so the state stays small (a fraction of a voxel, at most a
+// few millimetres for the sinc's intermediate terms) and float keeps it to ~1e-7 of its size:
+// after 20 sinc sweeps the positions differ from a computation in double by less than the
+// rounding of the final float coordinates (bench/bench_smoothing.cpp's input: 1 ulp at most, in
+// under 1 % of the vertices). Every sweep writes every vertex (vertices without neighbours get
+// D = 0), reading the previous buffer only.
+template <class Index>
 class Smoother {
  public:
-  Smoother(const Rows& neighbours, std::vector<Vec3d> start, int iterations, Progress& progress)
-      : nb_(neighbours), p_(std::move(start)), iterations_(iterations), progress_(progress) {}
+  Smoother(const VertexRows<Index>& graph, const Vec3f* original, Ticker& ticker)
+      : g_(graph), o_(original), n_(graph.offsets.size() - 1), ticker_(ticker) {}
 
-  std::vector<Vec3d> laplacian(double lambda) {
-    std::vector<Vec3d> q(p_.size());
-    for (int it = 0; it < iterations_; ++it) {
-      begin_iteration();
-      laplacian_sweep(nb_, p_, q, lambda);
-      p_.swap(q);
-      end_iteration(it);
-    }
-    return std::move(p_);
-  }
-
-  std::vector<Vec3d> taubin(double lambda, double mu) {
-    std::vector<Vec3d> q(p_.size());
-    for (int it = 0; it < iterations_; ++it) {
-      begin_iteration();
-      laplacian_sweep(nb_, p_, q, lambda);
-      laplacian_sweep(nb_, q, p_, mu);
-      end_iteration(it);
-    }
-    return std::move(p_);
-  }
-
-  // Vollmer, Mencl and Mueller's HC, simultaneous version (header comment). p_ holds q, the
-  // previous positions; original(i) gives o_i, recomputed rather than stored.
-  template <class Original>
-  std::vector<Vec3d> hc(double alpha, double beta, Original&& original) {
-    std::vector<Vec3d> lap(p_.size()), b(p_.size());
-    for (int it = 0; it < iterations_; ++it) {
-      begin_iteration();
-      for_each_vertex(p_.size(), [&](size_t i) {
-        if (nb_.size(i) == 0) {
-          lap[i] = p_[i];
-          b[i] = Vec3d{};
+  // Laplacian steps p' = p + f L(p), one per factor: D' = D + f avg_j (o_j - o_i + D_j - D_i).
+  // Jacobi: d and scratch swap (the result ends in d). `per_tick` factors make one iteration.
+  void laplacian(const std::vector<double>& factors, size_t per_tick, Vec3f*& d, Vec3f*& scratch) {
+    for (size_t s = 0; s < factors.size(); ++s) {
+      if (s % per_tick == 0) ticker_.begin();
+      const float f = static_cast<float>(factors[s]);
+      const Vec3f* in = d;
+      Vec3f* out = scratch;
+      const bool first = s == 0;
+      for_each_vertex(n_, [&](size_t i) {
+        const Index* j = g_.begin(i);
+        const Index* end = g_.end(i);
+        if (j == end) {
+          out[i] = Vec3f{};
           return;
         }
-        lap[i] = neighbour_average(nb_, i, p_);
-        b[i] = lap[i] - (alpha * original(i) + (1 - alpha) * p_[i]);
-      });
-      for_each_vertex(p_.size(), [&](size_t i) {
-        if (nb_.size(i) == 0) {
-          p_[i] = lap[i];
-          return;
+        const Vec3f oi = o_[i];
+        Vec3f sum{};
+        if (first) {
+          for (; j != end; ++j) sum = add(sum, sub(o_[*j], oi));
+          out[i] = mul(f / float(end - g_.begin(i)), sum);
+        } else {
+          const Vec3f di = in[i];
+          for (; j != end; ++j) sum = add(sum, add(sub(o_[*j], oi), in[*j]));
+          out[i] = add(di, mul(f, sub(mul(1.0f / float(end - g_.begin(i)), sum), di)));
         }
-        p_[i] = lap[i] - (beta * b[i] + (1 - beta) * neighbour_average(nb_, i, b));
       });
-      end_iteration(it);
+      std::swap(d, scratch);
+      if (s % per_tick == per_tick - 1) ticker_.end();
     }
-    return std::move(p_);
   }
 
-  // Windowed sinc by the Chebyshev recursion (header comment). p_ holds the normalised start.
-  std::vector<Vec3d> sinc(double pass_band, bool unit_gain) {
-    const std::vector<double> c = windowed_sinc_coefficients(iterations_, pass_band, unit_gain);
-    // x0 = T_{n-1}(I - K/2) p, x1 = T_n(I - K/2) p, sum = sum_{m <= n} c_m T_m(I - K/2) p.
-    std::vector<Vec3d> x0 = std::move(p_), x1(x0.size()), sum(x0.size());
-    begin_iteration();
-    for_each_vertex(x0.size(), [&](size_t i) {
-      x1[i] = nb_.size(i) == 0 ? x0[i] : 0.5 * (x0[i] + neighbour_average(nb_, i, x0));
-      sum[i] = c[0] * x0[i] + c[1] * x1[i];
+  // HC, simultaneous version (header). With q = o + D the previous positions and
+  // lap = avg q_j: b_i = lap_i - (alpha o_i + (1 - alpha) q_i) = L0_i + avg D_j - (1 - alpha) D_i,
+  // and p_i - o_i = lap_i - o_i - beta b_i - (1 - beta) avg b_j
+  //              = (1 - beta) (b_i - avg b_j) + (1 - alpha) D_i.
+  // Two sweeps per iteration, the second in place (vertex i reads its own D_i only).
+  void hc(int iterations, double alpha, double beta, Vec3f* d, Vec3f* b) {
+    const float keep = static_cast<float>(1 - alpha), spread = static_cast<float>(1 - beta);
+    for (int it = 0; it < iterations; ++it) {
+      ticker_.begin();
+      const bool first = it == 0;
+      for_each_vertex(n_, [&](size_t i) {
+        const Index* j = g_.begin(i);
+        const Index* end = g_.end(i);
+        if (j == end) {
+          b[i] = Vec3f{};
+          if (first) d[i] = Vec3f{};
+          return;
+        }
+        const Vec3f oi = o_[i];
+        const float inv = 1.0f / float(end - j);
+        Vec3f sum{};
+        if (first) {
+          for (; j != end; ++j) sum = add(sum, sub(o_[*j], oi));
+          b[i] = mul(inv, sum);
+        } else {
+          for (; j != end; ++j) sum = add(sum, add(sub(o_[*j], oi), d[*j]));
+          b[i] = sub(mul(inv, sum), mul(keep, d[i]));
+        }
+      });
+      for_each_vertex(n_, [&](size_t i) {
+        const Index* j = g_.begin(i);
+        const Index* end = g_.end(i);
+        if (j == end) return;
+        const float inv = 1.0f / float(end - j);
+        Vec3f sum{};
+        for (; j != end; ++j) sum = add(sum, b[*j]);
+        const Vec3f move = mul(spread, sub(b[i], mul(inv, sum)));
+        d[i] = first ? move : add(move, mul(keep, d[i]));
+      });
+      ticker_.end();
+    }
+  }
+
+  // Windowed sinc, f = sum_{n=0..N} c_n T_n(A) x with A = (I + avg) / 2 = I - K/2, evaluated by
+  // Clenshaw's recurrence b_k = c_k x + 2 A b_{k+1} - b_{k+2} (b_{N+1} = b_{N+2} = 0),
+  // f = c_0 x + A b_1 - b_2: N sweeps, two buffers, no running sum. In displacements: with
+  // beta_k the same recurrence for A = 1 (beta_k = c_k + 2 beta_{k+1} - beta_{k+2}) and
+  // d_k = b_k - beta_k x,
+  //   d_k = (d_{k+1} + avg d_{k+1}) - d_{k+2} + beta_{k+1} L0     (d_N = 0, d_{N-1} = c_N L0)
+  //   f = F x + (d_1 + avg d_1) / 2 - d_2 + (beta_1 / 2) L0,      F = sum c_n = f(0),
+  // where x is the position relative to the bounding-box centre (F != 1 scales about it, as
+  // VTK's normalised coordinates do). Returns F; d receives f - F x, the displacement from o
+  // apart from the scaling. l0 is scratch for L0.
+  double sinc(const std::vector<double>& c, Vec3f*& d, Vec3f*& scratch, Vec3f* l0) {
+    const int n = static_cast<int>(c.size()) - 1;
+    std::vector<double> beta(n + 3, 0.0);
+    for (int k = n; k >= 1; --k) beta[k] = c[k] + 2 * beta[k + 1] - beta[k + 2];
+    double gain = 0;
+    for (double x : c) gain += x;
+    // cur = d_{k+1}, prev = d_{k+2}, starting at k = N - 2.
+    Vec3f* cur = d;
+    Vec3f* prev = scratch;
+    const float c_n = n >= 2 ? static_cast<float>(c[n]) : 0.0f;
+    ticker_.begin();
+    for_each_vertex(n_, [&](size_t i) {
+      const Index* j = g_.begin(i);
+      const Index* end = g_.end(i);
+      prev[i] = Vec3f{};
+      if (j == end) {
+        l0[i] = cur[i] = Vec3f{};
+        return;
+      }
+      const Vec3f oi = o_[i];
+      const float inv = 1.0f / float(end - j);
+      Vec3f sum{};
+      for (; j != end; ++j) sum = add(sum, sub(o_[*j], oi));
+      l0[i] = mul(inv, sum);
+      cur[i] = mul(c_n, l0[i]);
     });
-    end_iteration(0);
-    for (int n = 1; n < iterations_; ++n) {
-      begin_iteration();
-      // x_{n+1} = 2 (I - K/2) x_n - x_{n-1} = x_n + avg(x_n) - x_{n-1}, written over x_{n-1}:
-      // vertex i reads its own x_{n-1} only.
-      for_each_vertex(x0.size(), [&](size_t i) {
-        if (nb_.size(i) == 0) return;
-        x0[i] = x1[i] + neighbour_average(nb_, i, x1) - x0[i];
-        sum[i] = sum[i] + c[n + 1] * x0[i];
+    ticker_.end();
+    // x_i + avg_j x_j - y_i + w z_i, scaled by s, for vertex i.
+    auto sweep = [&](const Vec3f* x, Vec3f* y, float w, float s) {
+      for_each_vertex(n_, [&](size_t i) {
+        const Index* j = g_.begin(i);
+        const Index* end = g_.end(i);
+        if (j == end) {
+          y[i] = Vec3f{};
+          return;
+        }
+        const float inv = 1.0f / float(end - j);
+        Vec3f sum{};
+        for (; j != end; ++j) sum = add(sum, x[*j]);
+        y[i] = add(sub(mul(s, add(x[i], mul(inv, sum))), y[i]), mul(w, l0[i]));
       });
-      x0.swap(x1);
-      end_iteration(n);
+    };
+    for (int k = n - 2; k >= 1; --k) {
+      ticker_.begin();
+      sweep(cur, prev, static_cast<float>(beta[k + 1]), 1.0f);
+      std::swap(cur, prev);
+      ticker_.end();
     }
-    return sum;
+    if (n >= 2) ticker_.begin();
+    sweep(cur, prev, static_cast<float>(0.5 * beta[1]), 0.5f);
+    if (n >= 2) ticker_.end();
+    d = prev;  // the result
+    scratch = cur;
+    return gain;
   }
 
  private:
-  void begin_iteration() { throw_if_cancelled(progress_); }
-  void end_iteration(int it) { progress_.update(double(it + 1) / double(iterations_)); }
-
-  const Rows& nb_;
-  std::vector<Vec3d> p_;
-  int iterations_;
-  Progress& progress_;
+  const VertexRows<Index>& g_;
+  const Vec3f* o_;
+  size_t n_;
+  Ticker& ticker_;
 };
 
-double enclosed_volume(const std::vector<uint32_t>& idx, const std::vector<Vec3d>& p) {
-  double v6 = 0;
-  for (size_t t = 0; t < idx.size(); t += 3) v6 += dot(p[idx[t]], cross(p[idx[t + 1]], p[idx[t + 2]]));
-  return v6 / 6;
+struct VolumeSums {
+  double original = 0, smoothed = 0;
+  VolumeSums operator+(const VolumeSums& o) const { return {original + o.original, smoothed + o.smoothed}; }
+};
+
+// Coefficients of 6 V(delta) = k0 + k1 delta + k2 delta^2 + k3 delta^3, the volume after every
+// vertex moves by delta along its unit normal, and twice the area.
+struct VolumeCubic {
+  double k0 = 0, k1 = 0, k2 = 0, k3 = 0, area2 = 0;
+  VolumeCubic operator+(const VolumeCubic& o) const {
+    return {k0 + o.k0, k1 + o.k1, k2 + o.k2, k3 + o.k3, area2 + o.area2};
+  }
+};
+
+struct Restoration {
+  bool keep_original = false;
+  double delta = 0;  // offset along the unit normals
+};
+
+// Gives the smoothed positions s(i) the enclosed volume V0 of the original ones o(i) (both
+// relative to one centre, for well-conditioned sums): every vertex moves along its area-weighted
+// unit normal (into `normal`) by the one offset delta that restores it. The volume after the move
+// is a cubic in delta (VolumeCubic), solved by Newton's method from the first-order step
+// (V0 - V) / area. A part that smoothing nearly erased (below a quarter of its volume: specks of
+// a few voxels) keeps its original positions instead; a mesh that encloses no positive volume is
+// left as smoothed.
+template <class Index, class Original, class Smoothed>
+Restoration restore_volume(const Adjacency<Index>& adj, const std::vector<uint32_t>& idx,
+                           Original&& original, Smoothed&& smoothed, size_t nv, Vec3f* normal) {
+  const size_t nt = idx.size() / 3;
+  const VolumeSums v = block_sum<VolumeSums>(nt, [&](size_t t0, size_t t1) {
+    VolumeSums s;
+    for (size_t t = t0; t < t1; ++t) {
+      const uint32_t* x = &idx[3 * t];
+      s.original += dot(original(x[0]), cross(original(x[1]), original(x[2])));
+      s.smoothed += dot(smoothed(x[0]), cross(smoothed(x[1]), smoothed(x[2])));
+    }
+    return s;
+  });
+  const double target = v.original, volume = v.smoothed;  // both times 6
+  if (!(target > 0)) return {};  // not a closed outward-wound surface: nothing to restore
+  if (volume < 0.25 * target) return {.keep_original = true};
+  if (std::abs(volume - target) <= 1e-9 * target) return {};
+
+  for_each_vertex(nv, [&](size_t i) {
+    const Vec3d n = adj.area_normal(idx, i, smoothed);
+    const double length = norm(n);
+    normal[i] = length > 0 && std::isfinite(length) ? to_float((1.0 / length) * n) : Vec3f{};
+  });
+  const VolumeCubic k = block_sum<VolumeCubic>(nt, [&](size_t t0, size_t t1) {
+    VolumeCubic s;
+    for (size_t t = t0; t < t1; ++t) {
+      const uint32_t* x = &idx[3 * t];
+      const Vec3d a = smoothed(x[0]), b = smoothed(x[1]), c = smoothed(x[2]);
+      const Vec3d na = to_d(normal[x[0]]), nb = to_d(normal[x[1]]), nc = to_d(normal[x[2]]);
+      const Vec3d bc = cross(b, c), nbc = cross(nb, c), bnc = cross(b, nc), nbnc = cross(nb, nc);
+      s.k0 += dot(a, bc);
+      s.k1 += dot(na, bc) + dot(a, nbc) + dot(a, bnc);
+      s.k2 += dot(na, nbc) + dot(na, bnc) + dot(a, nbnc);
+      s.k3 += dot(na, nbnc);
+      s.area2 += norm(cross(b - a, c - a));
+    }
+    return s;
+  });
+  if (!(k.area2 > 0)) return {};
+  // First-order step, as if every normal were the face normal (6 dV/ddelta = 3 area2), then
+  // Newton on the cubic.
+  double delta = (target - volume) / (3 * k.area2);
+  for (int step = 0; step < 50; ++step) {
+    const double g = k.k0 + delta * (k.k1 + delta * (k.k2 + delta * k.k3)) - target;
+    const double dg = k.k1 + delta * (2 * k.k2 + delta * 3 * k.k3);
+    if (!(dg > 0)) break;
+    const double change = g / dg;
+    if (!std::isfinite(change)) break;
+    delta -= change;
+    if (std::abs(change) <= 1e-15 * std::abs(delta)) break;
+  }
+  return {.delta = std::isfinite(delta) ? delta : 0.0};
 }
 
-// Gives the smoothed positions back the enclosed volume of the original ones: every vertex moves
-// along its (area-weighted) normal by the offset delta = (V0 - V) / area, three times (the first
-// step is exact to first order). A part that smoothing nearly erased (below a quarter of its
-// volume: specks of a few voxels) keeps its original positions instead.
-template <class Original>
-void restore_volume(const std::vector<uint32_t>& idx, Original&& original, std::vector<Vec3d>& p) {
-  std::vector<Vec3d> start(p.size());
-  for (size_t i = 0; i < p.size(); ++i) start[i] = original(i);
-  const double target = enclosed_volume(idx, start);
-  if (!(target > 0)) return;  // not a closed outward-wound surface: nothing to restore
-  double volume = enclosed_volume(idx, p);
-  if (volume < 0.25 * target) {
-    p = std::move(start);
-    return;
-  }
-  std::vector<Vec3d> normal(p.size());
-  for (int step = 0; step < 3 && std::abs(volume - target) > 1e-9 * target; ++step) {
-    std::fill(normal.begin(), normal.end(), Vec3d{});
-    double area = 0;
-    for (size_t t = 0; t < idx.size(); t += 3) {
-      const Vec3d a = p[idx[t]];
-      const Vec3d n = cross(p[idx[t + 1]] - a, p[idx[t + 2]] - a);
-      area += 0.5 * norm(n);
-      for (int k = 0; k < 3; ++k) normal[idx[t + k]] = normal[idx[t + k]] + n;
+// The centre of the bounding box of the positions (exact: minima and maxima do not depend on the
+// order of evaluation).
+Vec3d box_centre(const std::vector<Vec3f>& p) {
+  struct Box {
+    Vec3f lo{std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(),
+             std::numeric_limits<float>::infinity()};
+    Vec3f hi{-std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+             -std::numeric_limits<float>::infinity()};
+    Box operator+(const Box& o) const {
+      return {{std::min(lo.x, o.lo.x), std::min(lo.y, o.lo.y), std::min(lo.z, o.lo.z)},
+              {std::max(hi.x, o.hi.x), std::max(hi.y, o.hi.y), std::max(hi.z, o.hi.z)}};
     }
-    if (!(area > 0)) return;
-    const double delta = (target - volume) / area;
-    for (size_t i = 0; i < p.size(); ++i) {
-      const double len = norm(normal[i]);
-      if (len > 0) p[i] = p[i] + (delta / len) * normal[i];
-    }
-    volume = enclosed_volume(idx, p);
+  };
+  const Box box = block_sum<Box>(p.size(), [&](size_t i0, size_t i1) {
+    Box b;
+    for (size_t i = i0; i < i1; ++i) b = b + Box{p[i], p[i]};
+    return b;
+  });
+  return 0.5 * (to_d(box.lo) + to_d(box.hi));
+}
+
+template <class Index>
+void smooth_with(TriMesh& mesh, const SmoothOptions& options, int iterations, Progress& progress) {
+  const size_t nv = mesh.positions.size();
+  const std::vector<uint32_t>& idx = mesh.indices;
+  const Adjacency<Index> adj = build_adjacency<Index>(idx, nv, true);
+  const VertexRows<Index>& graph = adj.graph();
+  const Vec3f* o = mesh.positions.data();
+  // The centre of the volume sums and of the sinc filter's scaling.
+  const Vec3d centre = box_centre(mesh.positions);
+
+  Ticker ticker(progress, iterations);
+  Smoother<Index> smoother(graph, o, ticker);
+  // Two float triples per vertex (three for the sinc). The mesh's normals are recomputed at the
+  // end, so their storage serves as one of them: less memory, and pages already mapped.
+  std::optional<Vec3fBuffer> own_d, own_scratch, own_l0;
+  own_d.emplace(nv);
+  Vec3f* d = own_d->data();
+  Vec3f* scratch;
+  if (mesh.normals.size() == nv) {
+    scratch = mesh.normals.data();
+  } else {
+    own_scratch.emplace(nv);
+    scratch = own_scratch->data();
   }
+  double gain = 1;
+  switch (options.method) {
+    case SmoothMethod::laplacian:
+      smoother.laplacian(std::vector<double>(iterations, options.lambda), 1, d, scratch);
+      break;
+    case SmoothMethod::taubin: {
+      std::vector<double> factors;
+      for (int it = 0; it < iterations; ++it) {
+        factors.push_back(options.taubin_lambda);
+        factors.push_back(options.taubin_mu);
+      }
+      smoother.laplacian(factors, 2, d, scratch);
+      break;
+    }
+    case SmoothMethod::hc:
+      smoother.hc(iterations, options.alpha, options.beta, d, scratch);
+      break;
+    case SmoothMethod::sinc:
+      own_l0.emplace(nv);
+      gain = smoother.sinc(
+          windowed_sinc_coefficients(iterations, options.pass_band, options.sinc_unit_gain), d,
+          scratch, own_l0->data());
+      own_l0.reset();
+      break;
+    case SmoothMethod::none:
+      break;
+  }
+  // Position i relative to the centre: before (original) and after smoothing.
+  const auto original = [&](size_t i) { return to_d(o[i]) - centre; };
+  const auto smoothed = [&](size_t i) { return gain * (to_d(o[i]) - centre) + to_d(d[i]); };
+  Restoration r;
+  if (options.preserve_volume) r = restore_volume(adj, idx, original, smoothed, nv, scratch);
+  if (!r.keep_original) {
+    const bool moved = r.delta != 0;
+    for_each_vertex(nv, [&](size_t i) {
+      if (graph.size(i) == 0) return;
+      Vec3d change = (gain - 1) * (to_d(o[i]) - centre) + to_d(d[i]);
+      if (moved) change = change + r.delta * to_d(scratch[i]);
+      mesh.positions[i] = to_float(to_d(mesh.positions[i]) + change);
+    });
+  }
+  own_d.reset();
+  own_scratch.reset();
+  write_normals(mesh, adj);
 }
 
 }  // namespace
@@ -389,68 +632,27 @@ std::vector<double> windowed_sinc_coefficients(int iterations, double pass_band,
 }
 
 void compute_vertex_normals(TriMesh& mesh) {
-  compute_normals(mesh, vertex_triangles(mesh));
+  if (mesh_rows_fit_32(mesh.indices.size())) {
+    write_normals(mesh, build_adjacency<uint32_t>(mesh.indices, mesh.positions.size(), false));
+  } else {
+    write_normals(mesh, build_adjacency<uint64_t>(mesh.indices, mesh.positions.size(), false));
+  }
 }
 
 void smooth_mesh(TriMesh& mesh, const SmoothOptions& options, Progress& progress) {
   check_options(options);
   if (options.method == SmoothMethod::none) return;
-  const size_t nv = mesh.positions.size();
-  if (nv == 0) {
+  if (mesh.positions.empty()) {
     mesh.normals.clear();
     return;
   }
   const int iterations =
       options.iterations > 0 ? options.iterations : default_smooth_iterations(options.method);
-  const Rows triangles = vertex_triangles(mesh);
-  const Rows neighbours = vertex_neighbours(mesh, triangles);
-
-  // The frame the smoother works in: centred on the centroid (windowed sinc: on the bounding box
-  // centre, scaled by its diagonal, as VTK's NormalizeCoordinates).
-  Vec3d centre{};
-  double scale = 1;
-  if (options.method == SmoothMethod::sinc) {
-    Vec3d lo = to_double(mesh.positions[0]), hi = lo;
-    for (const Vec3f& p : mesh.positions) {
-      lo = {std::min(lo.x, double(p.x)), std::min(lo.y, double(p.y)), std::min(lo.z, double(p.z))};
-      hi = {std::max(hi.x, double(p.x)), std::max(hi.y, double(p.y)), std::max(hi.z, double(p.z))};
-    }
-    centre = 0.5 * (lo + hi);
-    const double diagonal = norm(hi - lo);
-    if (diagonal > 0) scale = diagonal;
+  if (mesh_rows_fit_32(mesh.indices.size())) {
+    smooth_with<uint32_t>(mesh, options, iterations, progress);
   } else {
-    for (const Vec3f& p : mesh.positions) centre = centre + to_double(p);
-    centre = (1.0 / double(nv)) * centre;
+    smooth_with<uint64_t>(mesh, options, iterations, progress);
   }
-  const auto original = [&](size_t i) {
-    return (1.0 / scale) * (to_double(mesh.positions[i]) - centre);
-  };
-  std::vector<Vec3d> start(nv);
-  for_each_vertex(nv, [&](size_t i) { start[i] = original(i); });
-
-  Smoother smoother(neighbours, std::move(start), iterations, progress);
-  std::vector<Vec3d> result;
-  switch (options.method) {
-    case SmoothMethod::laplacian:
-      result = smoother.laplacian(options.lambda);
-      break;
-    case SmoothMethod::hc:
-      result = smoother.hc(options.alpha, options.beta, original);
-      break;
-    case SmoothMethod::taubin:
-      result = smoother.taubin(options.taubin_lambda, options.taubin_mu);
-      break;
-    case SmoothMethod::sinc:
-      result = smoother.sinc(options.pass_band, options.sinc_unit_gain);
-      break;
-    case SmoothMethod::none:
-      break;
-  }
-  if (options.preserve_volume) restore_volume(mesh.indices, original, result);
-  for_each_vertex(nv, [&](size_t i) {
-    if (neighbours.size(i) > 0) mesh.positions[i] = to_float(scale * result[i] + centre);
-  });
-  compute_normals(mesh, triangles);
 }
 
 }  // namespace segmesh
