@@ -36,7 +36,7 @@ nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, co
     extra[p].quality = triangle_quality(scene.parts[p].mesh);
     extra[p].volume_before = measures[p].volume_mm3;
     if (smoothed) {
-      extra[p].volume_before = measure_mesh(unsmoothed->parts[p].mesh).volume_mm3;
+      extra[p].volume_before = enclosed_volume(unsmoothed->parts[p].mesh);
       extra[p].deviation = mesh_deviation(unsmoothed->parts[p].mesh, scene.parts[p].mesh);
     }
   });

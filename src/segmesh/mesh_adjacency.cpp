@@ -207,7 +207,8 @@ bool small_fan_ring(uint32_t v, const uint32_t* next, const uint32_t* prev, size
   uint8_t succ[8];
   for (size_t j = 0; j < d; ++j) {
     const unsigned m = match8(next, prev[j]) & used;
-    if (prev[j] == v || std::popcount(m) != 1) return false;
+    // m must have exactly one bit (no std::popcount: without -mpopcnt it is a library call).
+    if (prev[j] == v || m == 0 || (m & (m - 1)) != 0) return false;
     succ[j] = static_cast<uint8_t>(std::countr_zero(m));
   }
   size_t cur = 0;

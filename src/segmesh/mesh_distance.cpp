@@ -263,8 +263,8 @@ void MeshDistance::build_boxes() {
       });
 }
 
-MeshDistance::Hit MeshDistance::nearest(Vec3d p) const {
-  Hit best{{kInf, kInf, kInf}, kInf};
+MeshDistance::Hit MeshDistance::nearest(Vec3d p, double bound2) const {
+  Hit best{{kInf, kInf, kInf}, bound2};
   if (triangles_.empty()) return best;
   const double q[3] = {p.x, p.y, p.z};
   auto box_distance2 = [&](uint64_t node) {
@@ -318,6 +318,10 @@ double MeshDistance::distance(Vec3d p) const {
   return std::sqrt(nearest(p).distance2);
 }
 
+double MeshDistance::distance(Vec3d p, double upper_bound) const {
+  return std::sqrt(nearest(p, upper_bound * upper_bound).distance2);
+}
+
 Vec3d MeshDistance::closest_point(Vec3d p) const {
   return nearest(p).point;
 }
@@ -342,8 +346,10 @@ std::vector<Vec3d> surface_samples(const TriMesh& mesh) {
 }
 
 // Distances of `samples` to `target`, written to out[0 ..), and their sum taken over fixed
-// blocks in order.
-double measure(const std::vector<Vec3d>& samples, const MeshDistance& target, double* out) {
+// blocks in order. With `counterparts` (points on the target, one per sample), each distance
+// is searched below the distance to its counterpart.
+double measure(const std::vector<Vec3d>& samples, const MeshDistance& target, double* out,
+               const std::vector<Vec3d>* counterparts = nullptr) {
   const size_t n = samples.size();
   const size_t blocks = (n + kSampleBlock - 1) / kSampleBlock;
   std::vector<double> block_sum(blocks, 0.0);
@@ -353,7 +359,8 @@ double measure(const std::vector<Vec3d>& samples, const MeshDistance& target, do
                         double sum = 0;
                         for (size_t i = b * kSampleBlock, end = std::min(n, (b + 1) * kSampleBlock);
                              i < end; ++i) {
-                          out[i] = target.distance(samples[i]);
+                          out[i] = counterparts ? target.distance(samples[i], norm(samples[i] - (*counterparts)[i]))
+                                                : target.distance(samples[i]);
                           sum += out[i];
                         }
                         block_sum[b] = sum;
@@ -381,8 +388,10 @@ Deviation mesh_deviation(const TriMesh& a, const TriMesh& b) {
         index_b.emplace(b);
       });
   std::vector<double> d(samples_a.size() + samples_b.size());
-  const double sum_ab = measure(samples_a, *index_b, d.data());
-  const double sum_ba = measure(samples_b, *index_a, d.data() + samples_a.size());
+  const bool shared = a.positions.size() == b.positions.size() && a.indices == b.indices;
+  const double sum_ab = measure(samples_a, *index_b, d.data(), shared ? &samples_b : nullptr);
+  const double sum_ba =
+      measure(samples_b, *index_a, d.data() + samples_a.size(), shared ? &samples_a : nullptr);
   Deviation dev;
   // One addition of two partial sums is commutative, which makes the mean exactly symmetric.
   dev.mean = (sum_ab + sum_ba) / double(d.size());

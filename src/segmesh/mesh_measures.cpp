@@ -1,8 +1,13 @@
 #include "segmesh/mesh_measures.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
 #include <algorithm>
 #include <numeric>
 #include <vector>
+
+#include "segmesh/mesh_adjacency.hpp"
 
 namespace segmesh {
 
@@ -22,39 +27,109 @@ uint64_t half_edge_key(uint32_t to, uint32_t third) { return uint64_t{to} << 32 
 uint32_t key_to(uint64_t key) { return static_cast<uint32_t>(key >> 32); }
 uint32_t key_third(uint64_t key) { return static_cast<uint32_t>(key); }
 
-}  // namespace
+// Sums over blocks of a fixed size, combined in a fixed tree: the same bits for any thread count.
+template <class T, class F>
+T deterministic_sum(size_t n, size_t grain, F&& body) {
+  return tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<size_t>(0, n, grain), T{},
+      [&](const tbb::blocked_range<size_t>& r, T acc) { return acc + body(r.begin(), r.end()); },
+      [](const T& a, const T& b) { return a + b; });
+}
 
-MeshMeasures measure_mesh(const TriMesh& mesh) {
-  MeshMeasures m;
-  const size_t nv = mesh.positions.size();
-  const size_t nt = mesh.triangle_count();
-  m.triangles = static_cast<int64_t>(nt);
-  if (nt == 0) return m;
+struct SurfaceSums {
+  double area2 = 0, volume6 = 0;
+  Vec3d normal_sum{};
+  int64_t degenerate = 0;
+  SurfaceSums operator+(const SurfaceSums& o) const {
+    return {area2 + o.area2, volume6 + o.volume6, normal_sum + o.normal_sum,
+            degenerate + o.degenerate};
+  }
+};
+
+// Area and volume, relative to the centroid of the vertices to keep the sums well conditioned
+// far from the world origin; the volume is moved back to the origin by the exact correction
+// centroid . sum(n) (header comment), which is zero for a closed mesh.
+void measure_surface(const TriMesh& mesh, MeshMeasures& m) {
   const auto& idx = mesh.indices;
   const auto& pos = mesh.positions;
+  const size_t nv = pos.size(), nt = mesh.triangle_count();
+  const Vec3d centre = (1.0 / double(nv)) * deterministic_sum<Vec3d>(nv, 1 << 16, [&](size_t b, size_t e) {
+    Vec3d s{};
+    for (size_t v = b; v < e; ++v) s = s + to_double(pos[v]);
+    return s;
+  });
+  const SurfaceSums sums = deterministic_sum<SurfaceSums>(nt, 1 << 15, [&](size_t b, size_t e) {
+    SurfaceSums s;
+    for (size_t t = b; t < e; ++t) {
+      const Vec3d a = to_double(pos[idx[3 * t]]) - centre;
+      const Vec3d bb = to_double(pos[idx[3 * t + 1]]) - centre;
+      const Vec3d c = to_double(pos[idx[3 * t + 2]]) - centre;
+      const Vec3d n = cross(bb - a, c - a);
+      const double twice_area = norm(n);
+      s.area2 += twice_area;
+      s.volume6 += dot(a, cross(bb, c));
+      s.normal_sum = s.normal_sum + n;
+      if (twice_area == 0) ++s.degenerate;
+    }
+    return s;
+  });
+  m.degenerate_triangles = sums.degenerate;
+  m.area_mm2 = 0.5 * sums.area2;
+  m.volume_mm3 = (sums.volume6 + dot(centre, sums.normal_sum)) / 6.0;
+}
 
-  // Area and volume, relative to the centroid of the vertices to keep the sums well conditioned
-  // far from the world origin; the volume is moved back to the origin by the exact correction
-  // centroid . sum(n) (header comment), which is zero for a closed mesh.
-  Vec3d centre{};
-  for (const Vec3f& p : pos) centre = centre + to_double(p);
-  centre = (1.0 / double(nv)) * centre;
-  double area = 0, volume6 = 0;
-  Vec3d normal_sum{};
-  for (size_t t = 0; t < nt; ++t) {
-    const Vec3d a = to_double(pos[idx[3 * t]]) - centre;
-    const Vec3d b = to_double(pos[idx[3 * t + 1]]) - centre;
-    const Vec3d c = to_double(pos[idx[3 * t + 2]]) - centre;
-    const Vec3d n = cross(b - a, c - a);
-    const double twice_area = norm(n);
-    area += twice_area;
-    volume6 += dot(a, cross(b, c));
-    normal_sum = normal_sum + n;
-    if (twice_area == 0) ++m.degenerate_triangles;
+// The topology of a mesh whose every vertex is the apex of one closed fan (mesh_adjacency.hpp,
+// corners_to_rings): closed, edge-manifold and consistently wound by construction, so only the
+// edge lengths, the used vertices and the shells are left to count. Each undirected edge {v, u}
+// is seen from both ends and counted from the smaller one.
+template <class Index>
+void measure_rings(const TriMesh& mesh, const VertexRows<Index>& rings, MeshMeasures& m) {
+  const auto& pos = mesh.positions;
+  const size_t nv = pos.size();
+  struct EdgeSums {
+    double length = 0;
+    int64_t edges = 0, used = 0;
+    EdgeSums operator+(const EdgeSums& o) const {
+      return {length + o.length, edges + o.edges, used + o.used};
+    }
+  };
+  const EdgeSums sums = deterministic_sum<EdgeSums>(nv, 1 << 14, [&](size_t b, size_t e) {
+    EdgeSums s;
+    for (size_t v = b; v < e; ++v) {
+      if (rings.size(v) > 0) ++s.used;
+      for (const Index* u = rings.begin(v); u != rings.end(v); ++u) {
+        if (*u < v) continue;
+        ++s.edges;
+        s.length += norm(to_double(pos[v]) - to_double(pos[*u]));
+      }
+    }
+    return s;
+  });
+  m.vertices = sums.used;
+  m.edges = sums.edges;
+  m.mean_edge_length_mm = sums.length / double(sums.edges);
+  // Shells: vertices joined through their edges; each fan's first neighbour and each ring step
+  // join everything a triangle joins.
+  std::vector<uint32_t> parent(nv);
+  std::iota(parent.begin(), parent.end(), 0u);
+  for (size_t v = 0; v < nv; ++v) {
+    for (const Index* u = rings.begin(v); u != rings.end(v); ++u) {
+      if (*u < v) continue;
+      const uint32_t a = find_root(parent, static_cast<uint32_t>(v));
+      const uint32_t b = find_root(parent, static_cast<uint32_t>(*u));
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
   }
-  m.area_mm2 = 0.5 * area;
-  m.volume_mm3 = (volume6 + dot(centre, normal_sum)) / 6.0;
+  for (size_t v = 0; v < nv; ++v)
+    if (rings.size(v) > 0 && parent[v] == v) ++m.shells;
+}
 
+// Any mesh: half-edges counted one by one (header comment).
+void measure_topology(const TriMesh& mesh, MeshMeasures& m) {
+  const size_t nv = mesh.positions.size();
+  const size_t nt = mesh.triangle_count();
+  const auto& idx = mesh.indices;
+  const auto& pos = mesh.positions;
   // Outgoing half-edges per vertex, compressed rows, each with its triangle's third corner.
   std::vector<uint32_t> first(nv + 1, 0);
   for (size_t h = 0; h < idx.size(); ++h) ++first[idx[h] + 1];
@@ -148,8 +223,33 @@ MeshMeasures measure_mesh(const TriMesh& mesh) {
     ++m.vertices;
     if (find_root(parent, v) == v) ++m.shells;
   }
+}
+
+}  // namespace
+
+MeshMeasures measure_mesh(const TriMesh& mesh) {
+  MeshMeasures m;
+  const size_t nt = mesh.triangle_count();
+  m.triangles = static_cast<int64_t>(nt);
+  if (nt == 0) return m;
+  measure_surface(mesh, m);
+  // Meshing output (closed oriented manifolds) takes the parallel path; anything else, or a
+  // mesh too large for 32-bit rows, the general one.
+  bool rings = false;
+  if (mesh_rows_fit_32(mesh.indices.size())) {
+    VertexRows<uint32_t> rows = vertex_corners<uint32_t>(mesh.indices, mesh.positions.size());
+    rings = corners_to_rings(mesh.indices, rows);
+    if (rings) measure_rings(mesh, rows, m);
+  }
+  if (!rings) measure_topology(mesh, m);
   m.euler = m.vertices - m.edges + m.triangles;
   return m;
+}
+
+double enclosed_volume(const TriMesh& mesh) {
+  MeshMeasures m;
+  if (mesh.triangle_count() > 0) measure_surface(mesh, m);
+  return m.volume_mm3;
 }
 
 }  // namespace segmesh

@@ -52,4 +52,7 @@ struct MeshMeasures {
 // Precondition: every index is below mesh.positions.size().
 MeshMeasures measure_mesh(const TriMesh& mesh);
 
+// Only the signed enclosed volume (as measure_mesh computes it), without the topology checks.
+double enclosed_volume(const TriMesh& mesh);
+
 }  // namespace segmesh

@@ -379,17 +379,12 @@ class Smoother {
   Ticker& ticker_;
 };
 
-struct VolumeSums {
-  double original = 0, smoothed = 0;
-  VolumeSums operator+(const VolumeSums& o) const { return {original + o.original, smoothed + o.smoothed}; }
-};
-
 // Coefficients of 6 V(delta) = k0 + k1 delta + k2 delta^2 + k3 delta^3, the volume after every
-// vertex moves by delta along its unit normal, and twice the area.
+// vertex moves by delta along its unit normal, twice the area, and 6 times the original volume.
 struct VolumeCubic {
-  double k0 = 0, k1 = 0, k2 = 0, k3 = 0, area2 = 0;
+  double k0 = 0, k1 = 0, k2 = 0, k3 = 0, area2 = 0, original = 0;
   VolumeCubic operator+(const VolumeCubic& o) const {
-    return {k0 + o.k0, k1 + o.k1, k2 + o.k2, k3 + o.k3, area2 + o.area2};
+    return {k0 + o.k0, k1 + o.k1, k2 + o.k2, k3 + o.k3, area2 + o.area2, original + o.original};
   }
 };
 
@@ -409,20 +404,8 @@ template <class Index, class Original, class Smoothed>
 Restoration restore_volume(const Adjacency<Index>& adj, const std::vector<uint32_t>& idx,
                            Original&& original, Smoothed&& smoothed, size_t nv, Vec3f* normal) {
   const size_t nt = idx.size() / 3;
-  const VolumeSums v = block_sum<VolumeSums>(nt, [&](size_t t0, size_t t1) {
-    VolumeSums s;
-    for (size_t t = t0; t < t1; ++t) {
-      const uint32_t* x = &idx[3 * t];
-      s.original += dot(original(x[0]), cross(original(x[1]), original(x[2])));
-      s.smoothed += dot(smoothed(x[0]), cross(smoothed(x[1]), smoothed(x[2])));
-    }
-    return s;
-  });
-  const double target = v.original, volume = v.smoothed;  // both times 6
-  if (!(target > 0)) return {};  // not a closed outward-wound surface: nothing to restore
-  if (volume < 0.25 * target) return {.keep_original = true};
-  if (std::abs(volume - target) <= 1e-9 * target) return {};
-
+  // One pass for the normals, one over the triangles for both volumes and the cubic (the
+  // normals are wasted only in the rare cases that return early).
   for_each_vertex(nv, [&](size_t i) {
     const Vec3d n = adj.area_normal(idx, i, smoothed);
     const double length = norm(n);
@@ -432,6 +415,7 @@ Restoration restore_volume(const Adjacency<Index>& adj, const std::vector<uint32
     VolumeCubic s;
     for (size_t t = t0; t < t1; ++t) {
       const uint32_t* x = &idx[3 * t];
+      s.original += dot(original(x[0]), cross(original(x[1]), original(x[2])));
       const Vec3d a = smoothed(x[0]), b = smoothed(x[1]), c = smoothed(x[2]);
       const Vec3d na = to_d(normal[x[0]]), nb = to_d(normal[x[1]]), nc = to_d(normal[x[2]]);
       const Vec3d bc = cross(b, c), nbc = cross(nb, c), bnc = cross(b, nc), nbnc = cross(nb, nc);
@@ -443,6 +427,10 @@ Restoration restore_volume(const Adjacency<Index>& adj, const std::vector<uint32
     }
     return s;
   });
+  const double target = k.original, volume = k.k0;  // both times 6
+  if (!(target > 0)) return {};  // not a closed outward-wound surface: nothing to restore
+  if (volume < 0.25 * target) return {.keep_original = true};
+  if (std::abs(volume - target) <= 1e-9 * target) return {};
   if (!(k.area2 > 0)) return {};
   // First-order step, as if every normal were the face normal (6 dV/ddelta = 3 area2), then
   // Newton on the cubic.

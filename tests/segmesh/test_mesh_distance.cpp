@@ -11,6 +11,7 @@
 #include "segmesh/marching_cubes.hpp"
 #include "segmesh/mesh_distance.hpp"
 #include "segmesh/mesh_measures.hpp"
+#include "segmesh/smoothing.hpp"
 
 namespace segmesh {
 namespace {
@@ -424,6 +425,25 @@ TEST(Deviation, MatchesBruteForceAndIsSymmetricAndThreadCountIndependent) {
     EXPECT_EQ(one.mean, other.mean);
     EXPECT_EQ(one.p95, other.p95);
   }
+}
+
+// A mesh and its smoothed copy share their triangles, which bounds each search by the
+// counterpart's distance; the answer must be the unbounded one. Rotating each triangle's corners
+// keeps the surface (and the samples) but hides the shared triangles.
+TEST(Deviation, SharedTrianglesGiveTheSameAnswerAsAnUnboundedSearch) {
+  const TriMesh a = sphere(6, 0.4, {10, -20, 30});
+  TriMesh b = a;
+  smooth_mesh(b, {.method = SmoothMethod::laplacian, .iterations = 3, .preserve_volume = false});
+  TriMesh b_rotated = b;
+  for (size_t t = 0; t < b.triangle_count(); ++t)
+    std::rotate(b_rotated.indices.begin() + 3 * t, b_rotated.indices.begin() + 3 * t + 1,
+                b_rotated.indices.begin() + 3 * t + 3);
+  const Deviation bounded = mesh_deviation(a, b);
+  const Deviation unbounded = mesh_deviation(a, b_rotated);
+  EXPECT_GT(bounded.hausdorff, 0.01);  // the smoothing did move the surface
+  EXPECT_NEAR(bounded.hausdorff, unbounded.hausdorff, 1e-12);
+  EXPECT_NEAR(bounded.mean, unbounded.mean, 1e-12);
+  EXPECT_NEAR(bounded.p95, unbounded.p95, 1e-12);
 }
 
 TEST(Deviation, EmptyMeshes) {
