@@ -4,6 +4,8 @@
 # Uses sudo only when not root.
 #   scripts/install-deps.sh              build, test and demo dependencies
 #   scripts/install-deps.sh --with-peers also the Python/VTK/scikit-image peers used by bench/
+#   scripts/install-deps.sh --with-fuzz  also clang and libFuzzer (scripts/fuzz.sh, fuzz/)
+# (the flags combine: --with-peers --with-fuzz)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -14,13 +16,18 @@ packages=(
   libcli11-dev nlohmann-json3-dev               # command line, JSON (reports, glTF)
   googletest libgtest-dev python3-numpy python3-scipy  # tests (../shared/tools/mesh_metrics.py)
   libdeflate-dev                                # fast gzip inflate (.nii.gz, .seg.nrrd)
+  libgdcm-dev                                   # GDCM headers (DICOM warnings silenced, dicom_series.cpp)
   libbenchmark-dev                              # Google Benchmark (bench/segmesh_bench)
   libepoxy-dev libegl-dev libstb-dev            # renderer: OpenGL/EGL loader, EGL headers, PNG
   libegl-mesa0 libgl1-mesa-dri                  # headless rendering: Mesa's EGL and llvmpipe
 )
-if [[ "${1:-}" == "--with-peers" ]]; then
-  packages+=(python3-vtk9 python3-skimage python3-numpy python3-nibabel python3-scipy)
-fi
+for flag in "$@"; do
+  case "$flag" in
+    --with-peers) packages+=(python3-vtk9 python3-skimage python3-numpy python3-nibabel python3-scipy) ;;
+    --with-fuzz) packages+=(clang libclang-rt-14-dev) ;;  # libFuzzer and the sanitizer runtimes
+    *) echo "install-deps: unknown option $flag (use --with-peers, --with-fuzz)" >&2; exit 2 ;;
+  esac
+done
 # Node.js and npm run the glTF validator in the tests; a machine may already have its own.
 if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
   packages+=(nodejs npm)

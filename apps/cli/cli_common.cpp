@@ -1,5 +1,6 @@
 #include "cli_common.hpp"
 
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <sstream>
@@ -9,8 +10,26 @@
 
 namespace segmesh::cli {
 
-Image read_input(const std::filesystem::path& path) {
+void add_read_options(CLI::App* cmd, ReadArgs& args) {
+  cmd->add_option("--max-voxels", args.max_voxels,
+                  "refuse volumes with more voxels than this, before allocating (memory guard)")
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](std::string& value) -> std::string {
+            uint64_t count = 0;
+            const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), count);
+            if (ec != std::errc() || end != value.data() + value.size() || count == 0) {
+              return "must be a whole number of voxels, at least 1 (got \"" + value + "\")";
+            }
+            return {};
+          },
+          "COUNT"));
+}
+
+Image read_input(const std::filesystem::path& path, const ReadArgs& args) {
+  if (args.max_voxels == 0) throw Error("--max-voxels must be at least 1");
   ReadOptions options;
+  options.max_voxels = args.max_voxels;
   options.warn = [](const std::string& message) {
     std::fprintf(stderr, "segmesh: warning: %s\n", message.c_str());
   };

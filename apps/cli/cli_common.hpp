@@ -4,7 +4,9 @@
 
 #include <tbb/global_control.h>
 
+#include <CLI/CLI.hpp>
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -15,8 +17,17 @@
 
 namespace segmesh::cli {
 
+// The voxel limit of every command that reads a volume (ReadOptions::max_voxels): the default
+// (2e9) admits a 1024^3 volume; a header claiming more is refused before anything is allocated.
+struct ReadArgs {
+  uint64_t max_voxels = 2'000'000'000;
+};
+
+// Adds --max-voxels to `cmd`.
+void add_read_options(CLI::App* cmd, ReadArgs& args);
+
 // Reads a volume; the reader's warnings go to stderr as "segmesh: warning: ...".
-Image read_input(const std::filesystem::path& path);
+Image read_input(const std::filesystem::path& path, const ReadArgs& args = {});
 
 // Limits the worker threads for the lifetime of the returned object (0: all cores).
 std::unique_ptr<tbb::global_control> limit_threads(int threads);

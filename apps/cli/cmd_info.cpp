@@ -20,6 +20,7 @@ struct InfoArgs {
   std::string label_names;
   int connectivity = 26;
   bool json = false;
+  ReadArgs read;
 };
 
 struct LabelRow {
@@ -34,7 +35,7 @@ int run_info(const InfoArgs& args) {
   if (args.connectivity != 6 && args.connectivity != 18 && args.connectivity != 26) {
     throw Error("--connectivity must be 6, 18 or 26");
   }
-  const Image image = read_input(args.input);
+  const Image image = read_input(args.input, args.read);
   std::vector<LabelInfo> names = image.labels;
   if (!args.label_names.empty()) {
     for (LabelInfo& info : read_label_names(args.label_names)) {
@@ -130,6 +131,7 @@ Subcommand add_info_command(CLI::App& app) {
   cmd->add_option("--label-names", args->label_names, "TSV file: label, name[, role]");
   cmd->add_option("--connectivity", args->connectivity, "voxel connectivity: 6, 18 or 26")
       ->capture_default_str();
+  add_read_options(cmd, args->read);
   return {cmd, [args] { return run_info(*args); }};
 }
 

@@ -32,6 +32,7 @@ struct MeshArgs {
   std::string color = "material";
   int threads = 0;
   bool quiet = false;
+  ReadArgs read;
 };
 
 // Where the meshes go: one file, or a folder with one file per part.
@@ -72,13 +73,6 @@ OutputTarget resolve_output(const MeshArgs& args) {
   return out;
 }
 
-void refuse_to_overwrite(const fs::path& output, const fs::path& input) {
-  std::error_code ec;
-  if (fs::exists(output, ec) && fs::equivalent(output, input, ec)) {
-    throw Error(output.string() + ": is the input; choose another output path");
-  }
-}
-
 nlohmann::json options_json(const MeshArgs& a, const OutputTarget& out) {
   nlohmann::json j = meshing_json(a.meshing);
   j["format"] = extension(out.format);
@@ -98,12 +92,18 @@ int run_mesh(const MeshArgs& args) {
   options.color_by_quality = args.color == "quality";
   const OutputTarget target = resolve_output(args);
   refuse_to_overwrite(target.path, args.input);
-  if (!args.report.empty()) require_parent_folder(args.report);
+  if (!args.report.empty()) {
+    require_parent_folder(args.report);
+    refuse_to_overwrite(args.report, args.input);
+    if (!target.folder && fs::path(args.report) == target.path) {
+      throw Error(args.report + ": --report and -o name the same file; choose another name");
+    }
+  }
   const auto threads = limit_threads(args.threads);
 
   Timings t;
   auto step = std::chrono::steady_clock::now();
-  Image image = read_input(args.input);
+  Image image = read_input(args.input, args.read);
   t.read = ms_since(step);
 
   ProgressBar progress(!args.quiet);
@@ -169,6 +169,7 @@ Subcommand add_mesh_command(CLI::App& app) {
                   "for one file per part")
       ->required();
   add_meshing_options(cmd, a->meshing);
+  add_read_options(cmd, a->read);
   cmd->add_option("--color", a->color, "vertex colours: material or quality (radii ratio, blue 0 to green 1)")
       ->capture_default_str();
   cmd->add_option("--format", a->format, "file format for a folder output: stl, ply (default), obj, glb");

@@ -46,6 +46,7 @@ struct RenderArgs {
   double zoom = 1;
   int threads = 0;
   bool quiet = false;
+  ReadArgs read;
 };
 
 // "W,H" with both in 1..16384.
@@ -111,10 +112,7 @@ int run_render(const RenderArgs& args) {
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   if (ext != ".png") throw Error(args.output + ": the picture is written as PNG; name it *.png");
   require_parent_folder(output);
-  std::error_code ec;
-  if (fs::exists(output, ec) && fs::equivalent(output, args.input, ec)) {
-    throw Error(args.output + ": is the input; choose another output path");
-  }
+  refuse_to_overwrite(output, args.input);
   const auto view = render::parse_view(args.view);
   if (!view) {
     throw Error("--view must be anterior, posterior, left, right, superior, inferior or iso (got \"" +
@@ -142,7 +140,7 @@ int run_render(const RenderArgs& args) {
   if (mesh_input) {
     scene = read_mesh(args.input);
   } else {
-    const Image image = read_input(args.input);
+    const Image image = read_input(args.input, args.read);
     ProgressBar progress(!args.quiet);
     scene = build_scene(image, meshing, progress);
     progress.finish();
@@ -212,6 +210,7 @@ Subcommand add_render_command(CLI::App& app) {
                   "anti-aliasing: render N x N samples per pixel (1 to 4)")
       ->capture_default_str();
   add_meshing_options(cmd, a->meshing);
+  add_read_options(cmd, a->read);
   cmd->add_option("--threads", a->threads, "worker threads for the meshing (0: all cores)")
       ->capture_default_str();
   cmd->add_flag("--quiet", a->quiet, "no progress bar and no summary");

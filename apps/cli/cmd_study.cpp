@@ -41,6 +41,7 @@ struct StudyArgs {
   std::string label_names;
   int threads = 0;
   bool quiet = false;
+  ReadArgs read;
 };
 
 // All parts of a scene as one mesh (for scene-wide deviation and quality).
@@ -72,7 +73,7 @@ TriMesh in_voxel_units(const TriMesh& m, const Grid& g) {
 
 double scene_volume(const Scene& scene) {
   double v = 0;
-  for (const Part& p : scene.parts) v += measure_mesh(p.mesh).volume_mm3;
+  for (const Part& p : scene.parts) v += enclosed_volume(p.mesh);
   return v;
 }
 
@@ -170,7 +171,7 @@ int run_study(const StudyArgs& args) {
   base.smooth = {};  // extraction first; each smoothing is studied on its own
   if (!args.label_names.empty()) base.label_names = read_label_names(args.label_names);
   const auto threads = limit_threads(args.threads);
-  const Image image = read_input(args.input);
+  const Image image = read_input(args.input, args.read);
   ProgressBar progress(!args.quiet);
 
   // Table 1.
@@ -403,6 +404,7 @@ Subcommand add_study_command(CLI::App& app) {
   cmd->add_option("--iso", a->iso, "study a grey-value volume at this iso value");
   cmd->add_option("--label-names", a->label_names, "TSV file: label, name[, role]");
   cmd->add_option("--threads", a->threads, "worker threads (0: all cores)")->capture_default_str();
+  add_read_options(cmd, a->read);
   cmd->add_flag("--quiet", a->quiet, "print nothing");
   return {cmd, [a] { return run_study(*a); }};
 }

@@ -4,6 +4,8 @@
 // "segmesh: error: ..."; nothing is written), 1 an internal fault.
 #include <cstdio>
 #include <exception>
+#include <filesystem>
+#include <new>
 #include <string>
 
 #include "commands.hpp"
@@ -44,6 +46,13 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const segmesh::Cancelled&) {
     std::fprintf(stderr, "segmesh: cancelled\n");
+    return 2;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A file system call that failed outside the checks (a folder that cannot be listed, a
+    // file removed meanwhile): the path and the reason, never "internal error".
+    std::string where = e.path1().string();
+    if (where.empty()) where = "segmesh";
+    std::fprintf(stderr, "segmesh: error: %s: %s\n", where.c_str(), e.code().message().c_str());
     return 2;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "segmesh: error: out of memory; try a smaller volume or fewer labels\n");

@@ -1,10 +1,12 @@
 #include "segmesh_io/dicom_series.hpp"
 
+#include <gdcmTrace.h>
 #include <itkGDCMImageIO.h>
 #include <itkMetaDataObject.h>
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -14,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "segmesh_io/dicom_file_check.hpp"
 #include "segmesh_io/volume_checks.hpp"
 #include "segmesh_io/volume_data.hpp"
 #include "segmesh_io/volume_itk.hpp"
@@ -79,6 +82,25 @@ std::string number_text(double value) {
   return text.str();
 }
 
+bool has_dicom_extension(const fs::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return ext == ".dcm" || ext == ".dicom" || ext == ".ima";
+}
+
+// GDCM reports what it dislikes on stderr, several lines at a time; segmesh gives one line
+// (warnings through ReadOptions::warn, errors as Error). Switched off once, before GDCM is used.
+void silence_gdcm() {
+  static const bool done = [] {
+    gdcm::Trace::WarningOff();
+    gdcm::Trace::DebugOff();
+    gdcm::Trace::ErrorOff();
+    return true;
+  }();
+  (void)done;
+}
+
 // Pass 1: what each file is, from its header. Non-images are skipped with a warning.
 std::vector<Slice> scan_folder(const fs::path& folder, const ReadOptions& options) {
   std::vector<fs::path> files;
@@ -92,6 +114,26 @@ std::vector<Slice> scan_folder(const fs::path& folder, const ReadOptions& option
   std::vector<Slice> slices;
   for (const fs::path& file : files) {
     const std::string name = file.filename().string();
+    // Our own structural check first: GDCM aborts on some truncated files and reads others with
+    // missing pixels (dicom_file_check.hpp).
+    const DicomFileCheck check = check_dicom_file(file);
+    switch (check.status) {
+      case DicomFileStatus::broken:
+        throw file_error(file, "is a broken DICOM file (" + check.reason +
+                                   "); replace it with a complete copy or remove it from the folder");
+      case DicomFileStatus::not_dicom:
+        if (has_dicom_extension(file)) {
+          throw file_error(file, "is named like a DICOM file but is not one (" + check.reason +
+                                     "); replace it with a complete copy or remove it from the folder");
+        }
+        warn(options, folder, "skipping " + name + ": not a DICOM file");
+        continue;
+      case DicomFileStatus::not_image:
+        warn(options, folder, "skipping " + name + ": a DICOM file without an image");
+        continue;
+      case DicomFileStatus::image:
+        break;
+    }
     auto io = itk::GDCMImageIO::New();
     try {
       if (!io->CanReadFile(file.string().c_str())) {
@@ -247,6 +289,7 @@ double order_slices(const fs::path& folder, std::vector<Slice>& slices,
 }  // namespace
 
 Image read_dicom_series(const fs::path& folder, const ReadOptions& options) {
+  silence_gdcm();
   std::vector<Slice> slices = scan_folder(folder, options);
   if (slices.empty()) {
     throw file_error(folder,

@@ -61,7 +61,16 @@ MetaHeader parse_header(const fs::path& path) {
       break;
     }
     const std::string key = lower(trim(std::string_view(line).substr(0, equals)));
-    header.fields[key] = trim(std::string_view(line).substr(equals + 1));
+    const std::string value = trim(std::string_view(line).substr(equals + 1));
+    // MetaIO copies field names into 255-byte buffers and values into 255 doubles without
+    // checking (fuzz_mha: a fortify abort in MET_InitReadField): longer ones are refused here.
+    if (key.size() > 100 || value.size() > 1000) {
+      throw file_error(path, "a MetaImage header line is " +
+                                 std::to_string(line.size()) +
+                                 " characters long (field names are at most 100, values 1000); "
+                                 "the header is corrupt");
+    }
+    header.fields[key] = value;
     if (key == "elementdatafile") {
       header.data_offset = position;
       return header;
@@ -102,12 +111,26 @@ std::optional<VoxelType> voxel_type_of(const std::string& element_type) {
 
 Image read_metaimage(const fs::path& path, const ReadOptions& options) {
   const MetaHeader meta = parse_header(path);
+  // MetaIO reads NDims numbers for several fields (NDims squared for TransformMatrix) and hangs
+  // on an absurd count (found by fuzz_mha): the count is checked before ITK sees the file.
+  if (!meta.fields.count("ndims")) {
+    throw file_error(path, "not a MetaImage file (no NDims field in its header)");
+  }
+  const int64_t ndims = integer_field(path, meta, "NDims", 0);
+  if (ndims < 1 || ndims > 8) {
+    throw file_error(path, "NDims = " + meta.get("ndims") +
+                               " is not a dimension count (1 to 8); the header is corrupt");
+  }
   const std::string element_type = meta.get("elementtype");
   const std::optional<VoxelType> type = voxel_type_of(element_type);
   if (!type) {
     throw file_error(path, "ElementType \"" + element_type +
                                "\" is not supported; save the "
                                "volume with an integer or float type");
+  }
+  if (integer_field(path, meta, "ElementNumberOfChannels", 1) < 1) {
+    throw file_error(path, "ElementNumberOfChannels = " + meta.get("elementnumberofchannels") +
+                               " is not a channel count; the header is corrupt");
   }
   if (integer_field(path, meta, "ElementNumberOfChannels", 1) > 1) {
     throw file_error(path, "images with " + meta.get("elementnumberofchannels") +
@@ -125,6 +148,11 @@ Image read_metaimage(const fs::path& path, const ReadOptions& options) {
                                data_file + ") is not supported; convert it to a single .mha");
   }
 
+  if (lower(data_file) != "local") {  // before ITK opens it (a pipe would block)
+    fs::path source = data_file;
+    if (source.is_relative()) source = path.parent_path() / source;
+    check_data_file(path, source);
+  }
   auto io = itk::MetaImageIO::New();
   const ItkHeader header = read_itk_header(*io, path);
   const std::array<int64_t, 3> dims = check_dims(path, header.dims);
@@ -143,10 +171,7 @@ Image read_metaimage(const fs::path& path, const ReadOptions& options) {
   if (lower(data_file) != "local") {
     source = fs::path(data_file);
     if (source.is_relative()) source = path.parent_path() / source;
-    std::error_code ec;
-    if (!fs::is_regular_file(source, ec)) {
-      throw file_error(path, "its data file " + source.string() + " does not exist");
-    }
+    check_data_file(path, source);
     const int64_t header_size = integer_field(path, meta, "HeaderSize", 0);
     const uint64_t size = size_of_file(source);
     // HeaderSize -1: the data are the file's last bytes.

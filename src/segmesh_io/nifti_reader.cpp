@@ -246,6 +246,25 @@ Grid nifti2_grid(const NiftiHeader& h, const std::array<int64_t, 3>& dims) {
   return grid;
 }
 
+// ITK turns the qform and sform into matrices and takes their SVD; vnl aborts the process on a
+// non-finite element (found by fuzz_nifti: a NaN in srow_y). The fields ITK will use must be
+// finite numbers.
+void check_orientation_fields(const fs::path& path, const NiftiHeader& h) {
+  bool finite = std::isfinite(h.pixdim[0]);
+  if (h.qform_code > 0) {
+    for (int i = 0; i < 3; ++i) finite = finite && std::isfinite(h.quatern[i]) && std::isfinite(h.qoffset[i]);
+  }
+  if (h.sform_code > 0) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) finite = finite && std::isfinite(h.srow[r][c]);
+  }
+  if (!finite) {
+    throw file_error(path,
+                     "the image orientation (qform / sform) holds numbers that are not finite "
+                     "(NaN or infinity); the header is corrupt");
+  }
+}
+
 Grid nifti1_grid_from_itk(const fs::path& path, const std::array<int64_t, 3>& dims) {
   auto io = itk::NiftiImageIO::New();
   const ItkHeader itk_header = read_itk_header(*io, path);
@@ -318,6 +337,7 @@ Image read_nifti(const fs::path& path, const ReadOptions& options) {
   read_voxel_data(path, path, compressed ? 0 : vox_offset, compressed, compressed ? vox_offset : 0,
                   count, *type, h.swapped, sink);
 
+  check_orientation_fields(path, h);
   const Grid grid = h.version == 1 ? nifti1_grid_from_itk(path, dims) : nifti2_grid(h, dims);
   check_grid(path, grid, "pixdim[1..3] / sform");
 

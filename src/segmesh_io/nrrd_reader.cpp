@@ -110,10 +110,7 @@ std::optional<DataPlace> check_nrrd_data(const fs::path& path, const NrrdLayout&
     source = fs::path(layout.data_file);
     if (source.is_relative()) source = path.parent_path() / source;
     offset = 0;
-    std::error_code ec;
-    if (!fs::is_regular_file(source, ec)) {
-      throw file_error(path, "its data file " + source.string() + " does not exist");
-    }
+    check_data_file(path, source);
   }
   if (layout.line_skip > 0) {
     std::ifstream file(source, std::ios::binary);
@@ -205,6 +202,15 @@ Error layers_error(const fs::path& path, size_t layers) {
 
 Image read_nrrd(const fs::path& path, const ReadOptions& options) {
   const NrrdLayout layout = scan_layout(path);
+  // ITK opens a detached data file while reading the header: a named pipe there would block
+  // forever, a device never end. One detached file is checked first (LIST and %-patterns name
+  // several; ITK checks those).
+  if (!layout.data_file.empty() && layout.data_file.rfind("LIST", 0) != 0 &&
+      layout.data_file.find('%') == std::string::npos) {
+    fs::path source = layout.data_file;
+    if (source.is_relative()) source = path.parent_path() / source;
+    check_data_file(path, source);
+  }
   auto io = itk::NrrdImageIO::New();
   const ItkHeader header = read_itk_header(*io, path);
   const Segments segments = read_segments(path, io->GetMetaDataDictionary(), options);

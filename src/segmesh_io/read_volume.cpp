@@ -64,6 +64,12 @@ Image read_volume(const fs::path& path, const ReadOptions& options) {
                      ".seg.nrrd, .mha, .mhd, .mrc, .map, .rec or a DICOM folder");
   }
   if (format != Format::dicom) {
+    // Opening a named pipe blocks until something writes to it; a device never ends. The readers
+    // need a regular file (they check its size and read it more than once).
+    if (!fs::is_regular_file(status)) {
+      throw file_error(path, "is not a regular file (a device, pipe or socket); give a volume "
+                             "file or a DICOM folder");
+    }
     if (!std::ifstream(path, std::ios::binary)) {
       throw file_error(path, std::string("cannot open the file (") + std::strerror(errno) + ")");
     }

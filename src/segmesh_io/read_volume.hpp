@@ -24,6 +24,10 @@
 //   as they are: memory is touched only as data arrive (all at once only for a gzip member whose
 //   trailer agrees with the header), a short stream is refused with the exact byte counts, and
 //   the stream must end properly. ITK alone would accept truncated or inconsistent files.
+// - Only regular files are read (a named pipe would block, a device never end), also as a
+//   detached data file. Every DICOM file is walked by our own structural check before GDCM sees
+//   it (dicom_file_check.hpp): a truncated or corrupt slice is an Error naming it, a file that is
+//   not DICOM is skipped with a warning (an Error when it is named *.dcm).
 //
 // Errors: segmesh::Error with one line naming the file first, saying what is wrong and what to
 // do ("seg.nii.gz: file is truncated (expected 1048576 bytes of image data, found 1000000)").

@@ -65,7 +65,8 @@ void check_voxel_limit(const fs::path& path, const std::array<int64_t, 3>& dims,
     count << voxels;
     throw file_error(path, format_dims(dims) + " = " + count.str() +
                                " voxels exceeds the limit of " + std::to_string(max_voxels) +
-                               " voxels; crop or downsample the volume first");
+                               " voxels; crop or downsample the volume, or raise the limit "
+                               "(segmesh --max-voxels) if the memory is there");
   }
 }
 
@@ -119,6 +120,19 @@ void check_data_fits(const fs::path& path, uint64_t needed, uint64_t available, 
 Error truncated_error(const fs::path& path, uint64_t needed, uint64_t found) {
   return file_error(path, "file is truncated (expected " + std::to_string(needed) +
                               " bytes of image data, found " + std::to_string(found) + ")");
+}
+
+void check_data_file(const fs::path& header, const fs::path& data) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(data, ec);
+  if (!fs::exists(status)) {
+    throw file_error(header, "its data file " + data.string() + " does not exist");
+  }
+  if (!fs::is_regular_file(status)) {
+    throw file_error(header, "its data file " + data.string() +
+                                 " is not a regular file (a folder, device or pipe); the header "
+                                 "must name the file holding the voxels");
+  }
 }
 
 uint64_t size_of_file(const fs::path& path) {

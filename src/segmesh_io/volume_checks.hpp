@@ -59,6 +59,11 @@ void check_data_fits(const std::filesystem::path& path, uint64_t needed, uint64_
 // "file is truncated (expected N bytes of image data, found M)".
 Error truncated_error(const std::filesystem::path& path, uint64_t needed, uint64_t found);
 
+// Refuses a detached data file (NRRD "data file", MetaImage ElementDataFile) that is missing or is
+// not a regular file: a device such as /dev/zero never ends, and opening a named pipe waits for a
+// writer forever. `header` is the file that names it.
+void check_data_file(const std::filesystem::path& header, const std::filesystem::path& data);
+
 // The size of a regular file; Error naming `path` when it cannot be read.
 uint64_t size_of_file(const std::filesystem::path& path);
 

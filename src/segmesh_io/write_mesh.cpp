@@ -24,13 +24,8 @@ namespace {
 // Flushes and closes the temporary file, checking that every byte was accepted, so that many
 // part files can be finished before any of them is renamed without keeping them all open.
 void finish(AtomicFile& file) {
-  std::ofstream& out = file.stream();
-  out.flush();
-  const bool ok = static_cast<bool>(out);
-  out.close();
-  if (!ok || out.fail()) {
-    throw Error(file.target().string() + ": writing failed (disk full or no permission?); nothing was written");
-  }
+  file.stream();  // opened even when a writer wrote nothing, so the file exists
+  file.close_stream();
 }
 
 // The temporaries of one write, renamed together at the end.

@@ -26,12 +26,16 @@ std::string slurp(const std::filesystem::path& p) {
 CliResult run_segmesh(const std::string& args) { return run_segmesh_with_env("", args); }
 
 CliResult run_segmesh_with_env(const std::string& environment, const std::string& args) {
+  return run_segmesh_after(environment.empty() ? "" : "env " + environment, args);
+}
+
+CliResult run_segmesh_after(const std::string& shell_prefix, const std::string& args) {
   static std::atomic<int> counter{0};
   const auto dir = std::filesystem::path(SEGMESH_BINARY_DIR) / "test_scratch" / "cli_capture";
   std::filesystem::create_directories(dir);
   const std::string tag = std::to_string(::getpid()) + "_" + std::to_string(counter++);
   const auto out = dir / ("out_" + tag), err = dir / ("err_" + tag);
-  const std::string command = (environment.empty() ? "" : "env " + environment + " ") +
+  const std::string command = (shell_prefix.empty() ? "" : shell_prefix + " ") +
                               std::string(SEGMESH_EXE) + " " + args + " >" + out.string() +
                               " 2>" + err.string();
   const int status = std::system(command.c_str());
