@@ -20,6 +20,8 @@ packages=(
   libbenchmark-dev                              # Google Benchmark (bench/segmesh_bench)
   libepoxy-dev libegl-dev libstb-dev            # renderer: OpenGL/EGL loader, EGL headers, PNG
   libegl-mesa0 libgl1-mesa-dri                  # headless rendering: Mesa's EGL and llvmpipe
+  libglfw3-dev libimgui-dev libglx-mesa0        # segmesh-viewer: window, Dear ImGui, GLX
+  xvfb xauth                                    # the viewer's smoke test runs it under xvfb-run
 )
 for flag in "$@"; do
   case "$flag" in
