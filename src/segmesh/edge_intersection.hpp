@@ -31,15 +31,24 @@ struct EdgeCrossing {
   double t = 0.5;
 };
 
-// The crossing on the edge from grid point (i, j, k) one step along `axis`.
+// Where the iso-surface crosses the edge from grid point (i, j, k) one step along `axis`, without
+// the gradient (index_gradient left zero).
 template <class T>
-EdgeCrossing edge_crossing(const Volume<T>& f, int64_t i, int64_t j, int64_t k, int axis,
-                           double iso, NormalMethod normals) {
+EdgeCrossing edge_point(const Volume<T>& f, int64_t i, int64_t j, int64_t k, int axis, double iso) {
   const int64_t i1 = i + (axis == 0), j1 = j + (axis == 1), k1 = k + (axis == 2);
   EdgeCrossing c;
   c.t = edge_fraction(static_cast<double>(f.at(i, j, k)), static_cast<double>(f.at(i1, j1, k1)),
                       iso);
   c.index_point = {i + c.t * (i1 - i), j + c.t * (j1 - j), k + c.t * (k1 - k)};
+  return c;
+}
+
+// The crossing on the edge from grid point (i, j, k) one step along `axis`, with the gradient.
+template <class T>
+EdgeCrossing edge_crossing(const Volume<T>& f, int64_t i, int64_t j, int64_t k, int axis,
+                           double iso, NormalMethod normals) {
+  EdgeCrossing c = edge_point(f, i, j, k, axis, iso);
+  const int64_t i1 = i + (axis == 0), j1 = j + (axis == 1), k1 = k + (axis == 2);
   c.index_gradient = (1 - c.t) * gradient(f, i, j, k, normals) + c.t * gradient(f, i1, j1, k1, normals);
   return c;
 }

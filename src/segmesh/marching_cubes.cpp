@@ -43,10 +43,10 @@ class Extractor {
                   "crop the volume or select fewer labels");
     }
     mesh.positions.resize(vertices);
-    mesh.normals.resize(vertices);
+    if (o_.vertex_normals) mesh.normals.resize(vertices);
     mesh.indices.resize(3 * triangle_first_.back());
     fill(mesh);
-    repair_zero_normals(mesh);
+    if (o_.vertex_normals) repair_zero_normals(mesh);
     return mesh;
   }
 
@@ -85,6 +85,10 @@ class Extractor {
   }
 
   void emit_vertex(int axis, int64_t i, int64_t j, int64_t k, uint32_t id, TriMesh& mesh) const {
+    if (!o_.vertex_normals) {
+      mesh.positions[id] = to_float(f_.grid.to_world(edge_point(f_, i, j, k, axis, o_.iso).index_point));
+      return;
+    }
     const EdgeCrossing c = edge_crossing(f_, i, j, k, axis, o_.iso, o_.normals);
     mesh.positions[id] = to_float(f_.grid.to_world(c.index_point));
     const Vec3d g = f_.grid.gradient_to_world(c.index_gradient);

@@ -11,7 +11,7 @@
 // [out] a TriMesh in world millimetres: one shared vertex per cut edge, linearly interpolated
 //       (kept at least kMinEdgeFraction away from the edge's ends, so a corner value equal to iso
 //       never collapses vertices into zero-area triangles), unit normals from the field gradient
-//       pointing outwards (towards lower values), triangles counter-clockwise seen from outside —
+//       pointing outwards (towards lower values) unless options.vertex_normals is false, triangles counter-clockwise seen from outside —
 //       also for mirrored grids (negative direction determinant), whose winding is flipped.
 // Guarantees: for a padded field the mesh is closed, edge-manifold and consistently wound.
 // Cost: O(cells) time in two passes over the field, O(vertices + triangles) memory plus two
@@ -31,6 +31,9 @@ struct McOptions {
   double iso = 0.5;                              // a label indicator (0/1) is contoured at 0.5
   int connectivity = 26;                         // 6, 18 or 26: see marching_cubes_table.hpp
   NormalMethod normals = NormalMethod::central;  // central differences or Sobel
+  // False: no normals (TriMesh::normals left empty), for meshes whose normals are recomputed from
+  // the triangles anyway (smoothing does); saves the gradient at both ends of every cut edge.
+  bool vertex_normals = true;
 };
 
 template <class T>

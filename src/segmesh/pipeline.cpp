@@ -117,7 +117,11 @@ TriMesh extract_part(const Grid& grid, const MeshingOptions& o, double iso, floa
                                      .svd_eps = o.dc_svd_eps,
                                      .tolerance_mm = o.dc_tolerance_mm});
     }
-    return marching_cubes(field, {.iso = iso, .connectivity = o.connectivity, .normals = o.normals});
+    // Smoothing recomputes the normals from the triangles: the gradient's would be thrown away.
+    return marching_cubes(field, {.iso = iso,
+                                  .connectivity = o.connectivity,
+                                  .normals = o.normals,
+                                  .vertex_normals = o.smooth.method == SmoothMethod::none});
   };
   if (o.presmooth_sigma_mm > 0) {
     const auto field = make_field(gaussian_margin(grid, o.presmooth_sigma_mm));

@@ -227,3 +227,26 @@ TEST(MarchingCubes, EmptyAndFullFieldsGiveNoTriangles) {
 
 }  // namespace
 }  // namespace segmesh
+
+namespace segmesh {
+namespace {
+
+TEST(MarchingCubes, WithoutNormalsTheSameSurfaceAndNoNormals) {
+  std::mt19937 rng(5);
+  std::bernoulli_distribution coin(0.4);
+  std::vector<uint8_t> inside(20 * 24 * 16);
+  for (auto& v : inside) v = coin(rng);
+  auto field = padded({20, 24, 16}, inside);
+  field.grid.spacing = {0.7, 0.5, 2};
+  const TriMesh with = marching_cubes(field, {});
+  const TriMesh without = marching_cubes(field, {.vertex_normals = false});
+  ASSERT_FALSE(with.empty());
+  EXPECT_TRUE(without.normals.empty());
+  EXPECT_EQ(with.indices, without.indices);
+  ASSERT_EQ(with.positions.size(), without.positions.size());
+  EXPECT_EQ(0, std::memcmp(with.positions.data(), without.positions.data(),
+                           with.positions.size() * sizeof(Vec3f)));
+}
+
+}  // namespace
+}  // namespace segmesh
