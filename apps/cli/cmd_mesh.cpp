@@ -1,6 +1,8 @@
 // segmesh mesh INPUT -o OUTPUT [options]: the main job. Reads a label map (or a grey-value volume
 // with --iso), splits it into parts, extracts each with Marching Cubes, writes the meshes and a
 // report. Every check that can fail on the user's input runs before the long work starts.
+#include <tbb/task_group.h>
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -116,18 +118,28 @@ int run_mesh(const MeshArgs& args) {
   t.extract = pipeline.extract_ms;
   t.smooth = pipeline.smooth_ms;
 
+  // The parts' measures (closed, area, volume) are for the summary table and the report only;
+  // they are computed while the file is written (writing is mostly serial encoding and the
+  // kernel's copy), and not at all with --quiet and no report.
+  std::vector<MeshMeasures> measures;
+  tbb::task_group measuring;
+  if (!args.quiet || !args.report.empty()) measuring.run([&] { measures = measure_parts(scene); });
   step = std::chrono::steady_clock::now();
   std::vector<std::string> outputs;
-  if (target.folder) {
-    for (const fs::path& p : write_parts(scene, target.path, target.format)) outputs.push_back(p.string());
-  } else {
-    write_scene(scene, target.path, target.format);
-    outputs.push_back(target.path.string());
+  try {
+    if (target.folder) {
+      for (const fs::path& p : write_parts(scene, target.path, target.format)) outputs.push_back(p.string());
+    } else {
+      write_scene(scene, target.path, target.format);
+      outputs.push_back(target.path.string());
+    }
+  } catch (...) {
+    measuring.wait();
+    throw;
   }
   t.write = ms_since(step);
   t.total = ms_since(start);
-
-  const std::vector<MeshMeasures> measures = measure_parts(scene);
+  measuring.wait();
   if (!args.report.empty()) {
     const auto report = mesh_report(image, options_json(args, target), t, pipeline, scene,
                                     options.smooth.method == SmoothMethod::none ? nullptr : &unsmoothed,
