@@ -4,38 +4,64 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
-#include <memory>
-#include <optional>
 #include <vector>
 
+#include "segmesh/component_field.hpp"
 #include "segmesh/edge_intersection.hpp"
 #include "segmesh/error.hpp"
 #include "segmesh/marching_cubes_table.hpp"
 #include "segmesh/row_trim.hpp"
+#include "segmesh/run_scan.hpp"
 
 namespace segmesh {
 
 namespace {
 
-template <class T>
+// Bit e set when cell edge e joins an inside and an outside corner, per case.
+constexpr std::array<uint16_t, 256> kCutEdges = [] {
+  std::array<uint16_t, 256> m{};
+  for (int cs = 0; cs < 256; ++cs) {
+    for (int e = 0; e < 12; ++e) {
+      if ((cs >> kMcEdgeCorner[e][0] & 1) != (cs >> kMcEdgeCorner[e][1] & 1)) m[cs] |= uint16_t(1u << e);
+    }
+  }
+  return m;
+}();
+
+// What one row contributes: its cut edges per axis (starting at its grid points) and the triangles
+// of the cells between it and the rows at y + 1, z + 1.
+struct RowCount {
+  int64_t edges[3] = {0, 0, 0};
+  int64_t triangles = 0;
+};
+
+// Marching Cubes over any scan that answers per row (row_trim.hpp's TrimmedScan over a field,
+// run_scan.hpp's RunScan over a component's runs): row_edges / row_edge_count, cells / cell_sum.
+// `Vertices` places the vertices of one row's cut edges of one axis: emit_row(axis, j, k, id,
+// mesh) writes them from id on, in row_edges order.
+//
+// Vertex ids follow the rows (row index k * ny + j), and within a row its x-edges, then its
+// y-edges, then its z-edges, each i ascending; triangles follow the cell rows. A counting pass
+// sizes every row, prefix sums give each row its output ranges, and a filling pass writes them:
+// rows are independent, so both passes are parallel over rows and the output is the same for any
+// thread count. A cell finds the ids of its cut edges with one cursor per (row, axis) it touches,
+// advanced as the cells of the row are visited in x order (every cut edge of those rows is an
+// edge of a visited cell), so no plane of edge ids is ever stored.
+template <class Scan, class Vertices>
 class Extractor {
  public:
-  Extractor(const Volume<T>& field, const McOptions& options, Progress& progress)
-      : f_(field),
-        o_(options),
-        table_(mc_table(options.connectivity)),
-        progress_(progress),
-        nx_(field.grid.dims[0]),
-        ny_(field.grid.dims[1]),
-        nz_(field.grid.dims[2]) {}
+  Extractor(const Scan& scan, const std::array<int64_t, 3>& dims, bool mirrored, int connectivity,
+            const Vertices& vertices, Progress& progress)
+      : scan_(scan), vertices_(vertices), table_(mc_table(connectivity)), progress_(progress),
+        flip_(mirrored), nx_(dims[0]), ny_(dims[1]), nz_(dims[2]) {}
 
-  TriMesh run() {
+  TriMesh run(bool normals) {
     TriMesh mesh;
     if (nx_ < 2 || ny_ < 2 || nz_ < 2) return mesh;
-    scan_.emplace(f_, InsideTest<T>(o_.iso), progress_);
     count();
     const uint64_t vertices = vertex_first_.back();
     if (vertices > std::numeric_limits<uint32_t>::max()) {
@@ -43,48 +69,123 @@ class Extractor {
                   "crop the volume or select fewer labels");
     }
     mesh.positions.resize(vertices);
-    if (o_.vertex_normals) mesh.normals.resize(vertices);
+    if (normals) mesh.normals.resize(vertices);
     mesh.indices.resize(3 * triangle_first_.back());
     fill(mesh);
-    if (o_.vertex_normals) repair_zero_normals(mesh);
     return mesh;
   }
 
  private:
+  int64_t rows() const { return ny_ * nz_; }
+  size_t row_index(int64_t j, int64_t k) const { return static_cast<size_t>(k * ny_ + j); }
+
   void count() {
-    std::vector<uint64_t> vertices(nz_), triangles(nz_);
-    tbb::parallel_for(tbb::blocked_range<int64_t>(0, nz_), [&](const auto& r) {
+    counts_.assign(static_cast<size_t>(rows()), RowCount{});
+    tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 64), [&](const auto& range) {
       throw_if_cancelled(progress_);
-      for (int64_t k = r.begin(); k < r.end(); ++k) {
-        uint64_t nv = 0;
-        scan_->cut_edges(k, [&](int, int64_t, int64_t) { ++nv; });
-        vertices[k] = nv;
-        uint64_t nt = 0;
-        if (k + 1 < nz_) {
-          for (int64_t j = 0; j + 1 < ny_; ++j) {
-            scan_->cells(j, k, [&](int64_t, int cs) { nt += table_.triangle_count(cs); });
-          }
+      for (int64_t r = range.begin(); r < range.end(); ++r) {
+        const int64_t j = r % ny_, k = r / ny_;
+        RowCount& c = counts_[static_cast<size_t>(r)];
+        c.edges[0] = scan_.row_edge_count(0, j, k);
+        if (j + 1 < ny_) c.edges[1] = scan_.row_edge_count(1, j, k);
+        if (k + 1 < nz_) c.edges[2] = scan_.row_edge_count(2, j, k);
+        if (j + 1 < ny_ && k + 1 < nz_) {
+          c.triangles = scan_.cell_sum(j, k, [&](int cs) { return int64_t{table_.triangle_count(cs)}; });
         }
-        triangles[k] = nt;
       }
     });
-    vertex_first_.assign(nz_ + 1, 0);
-    triangle_first_.assign(nz_ + 1, 0);
-    for (int64_t k = 0; k < nz_; ++k) {
-      vertex_first_[k + 1] = vertex_first_[k] + vertices[k];
-      triangle_first_[k + 1] = triangle_first_[k] + triangles[k];
+    vertex_first_.assign(counts_.size() + 1, 0);
+    triangle_first_.assign(counts_.size() + 1, 0);
+    for (size_t r = 0; r < counts_.size(); ++r) {
+      const RowCount& c = counts_[r];
+      vertex_first_[r + 1] = vertex_first_[r] + uint64_t(c.edges[0] + c.edges[1] + c.edges[2]);
+      triangle_first_[r + 1] = triangle_first_[r] + uint64_t(c.triangles);
     }
   }
 
-  // Assigns ids to the cut edges of plane k; with `emit`, also computes their vertices.
-  void number_plane(int64_t k, bool emit, PlaneEdgeIds& ids, TriMesh& mesh) const {
-    scan_->number_plane(k, static_cast<uint32_t>(vertex_first_[k]), ids,
-                        [&](int axis, int64_t i, int64_t j, uint32_t id) {
-                          if (emit) emit_vertex(axis, i, j, k, id, mesh);
-                        });
+  // The first id of row (j, k)'s cut edges along `axis`.
+  uint32_t first_id(int64_t j, int64_t k, int axis) const {
+    const size_t r = row_index(j, k);
+    uint64_t id = vertex_first_[r];
+    for (int a = 0; a < axis; ++a) id += uint64_t(counts_[r].edges[a]);
+    return static_cast<uint32_t>(id);
   }
 
-  void emit_vertex(int axis, int64_t i, int64_t j, int64_t k, uint32_t id, TriMesh& mesh) const {
+  void emit_cells(int64_t j, int64_t k, TriMesh& mesh) const {
+    uint32_t* out = mesh.indices.data() + 3 * triangle_first_[row_index(j, k)];
+    // Cursors: the id of the next cut edge not yet passed, per (row, axis) the cells touch.
+    // x-edges of the rows (j + y, k + z) for cell edges y + 2z; y-edges of rows (j, k + z) and
+    // z-edges of rows (j + y, k), each at x (the cell's left) and x + 1 (its right).
+    uint32_t cx[4], cy[2], cz[2];
+    for (int b = 0; b < 4; ++b) cx[b] = first_id(j + (b & 1), k + (b >> 1), 0);
+    for (int h = 0; h < 2; ++h) cy[h] = first_id(j, k + h, 1);
+    for (int h = 0; h < 2; ++h) cz[h] = first_id(j + h, k, 2);
+    scan_.cells(j, k, [&](int64_t, int cs) {
+      const unsigned m = kCutEdges[static_cast<size_t>(cs)];
+      uint32_t id[12];
+      for (int b = 0; b < 4; ++b) {
+        id[b] = cx[b];
+        cx[b] += m >> b & 1;
+      }
+      for (int h = 0; h < 2; ++h) {
+        const uint32_t left_y = m >> (4 + 2 * h) & 1, left_z = m >> (8 + 2 * h) & 1;
+        id[4 + 2 * h] = cy[h];
+        id[5 + 2 * h] = cy[h] + left_y;
+        cy[h] += left_y;
+        id[8 + 2 * h] = cz[h];
+        id[9 + 2 * h] = cz[h] + left_z;
+        cz[h] += left_z;
+      }
+      const auto* tri = table_.triangles.data() + table_.first[static_cast<size_t>(cs)];
+      const int n = table_.triangle_count(cs);
+      for (int t = 0; t < n; ++t, out += 3) {
+        out[0] = id[tri[t][0]];
+        out[1] = id[tri[t][flip_ ? 2 : 1]];
+        out[2] = id[tri[t][flip_ ? 1 : 2]];
+      }
+    });
+  }
+
+  void fill(TriMesh& mesh) {
+    std::atomic<int64_t> rows_done{0};
+    tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 64), [&](const auto& range) {
+      throw_if_cancelled(progress_);
+      for (int64_t r = range.begin(); r < range.end(); ++r) {
+        const int64_t j = r % ny_, k = r / ny_;
+        const RowCount& c = counts_[static_cast<size_t>(r)];
+        for (int axis = 0; axis < 3; ++axis) {
+          if (c.edges[axis] > 0) vertices_.emit_row(axis, j, k, first_id(j, k, axis), mesh);
+        }
+        if (c.triangles > 0) emit_cells(j, k, mesh);
+      }
+      progress_.update(double(rows_done += range.size()) / double(rows()));
+    });
+  }
+
+  const Scan& scan_;
+  const Vertices& vertices_;
+  const McTable& table_;
+  Progress& progress_;
+  const bool flip_;  // a mirrored grid reverses the winding of index space
+  const int64_t nx_, ny_, nz_;
+  std::vector<RowCount> counts_;
+  std::vector<uint64_t> vertex_first_;    // first vertex id of each row's cut edges
+  std::vector<uint64_t> triangle_first_;  // first triangle of each row's cells
+};
+
+// Vertices of a field: interpolated along the edge, normals from the gradient when asked.
+template <class T>
+class FieldVertices {
+ public:
+  FieldVertices(const TrimmedScan<T>& scan, const Volume<T>& field, const McOptions& options)
+      : scan_(scan), f_(field), o_(options) {}
+
+  void emit_row(int axis, int64_t j, int64_t k, uint32_t id, TriMesh& mesh) const {
+    scan_.row_edges(axis, j, k, [&](int64_t i) { emit(axis, i, j, k, id++, mesh); });
+  }
+
+ private:
+  void emit(int axis, int64_t i, int64_t j, int64_t k, uint32_t id, TriMesh& mesh) const {
     if (!o_.vertex_normals) {
       mesh.positions[id] = to_float(f_.grid.to_world(edge_point(f_, i, j, k, axis, o_.iso).index_point));
       return;
@@ -98,80 +199,85 @@ class Extractor {
     mesh.normals[id] = len > 0 ? to_float((-1.0 / len) * g) : Vec3f{0, 0, 0};
   }
 
-  void emit_triangles(int64_t k, const PlaneEdgeIds& lo, const PlaneEdgeIds& hi, TriMesh& mesh) const {
-    uint32_t* out = mesh.indices.data() + 3 * triangle_first_[k];
-    const bool flip = f_.grid.mirrored();
-    for (int64_t j = 0; j + 1 < ny_; ++j) {
-      scan_->cells(j, k, [&](int64_t i, int cs) {
-        auto edge_id = [&](int e) { return cell_edge_id(lo, hi, e, i, j, nx_); };
-        const int n = table_.triangle_count(cs);
-        for (int t = 0; t < n; ++t) {
-          const auto& tri = table_.triangles[table_.first[cs] + t];
-          out[0] = edge_id(tri[0]);
-          out[1] = edge_id(flip ? tri[2] : tri[1]);
-          out[2] = edge_id(flip ? tri[1] : tri[2]);
-          out += 3;
-        }
-      });
-    }
-  }
-
-  void fill(TriMesh& mesh) {
-    std::atomic<int64_t> planes_done{0};
-    const size_t plane_size = static_cast<size_t>(nx_ * ny_);
-    // Ranges of at least 16 planes: each starts by renumbering one plane it does not own.
-    tbb::parallel_for(tbb::blocked_range<int64_t>(0, nz_, 16), [&](const auto& r) {
-      throw_if_cancelled(progress_);
-      PlaneEdgeIds lo(plane_size), hi(plane_size);
-      number_plane(r.begin(), true, lo, mesh);
-      for (int64_t k = r.begin(); k < r.end(); ++k) {
-        if (k + 1 < nz_) {
-          number_plane(k + 1, k + 1 < r.end(), hi, mesh);  // the next range emits its own
-          emit_triangles(k, lo, hi, mesh);
-          std::swap(lo, hi);
-        }
-      }
-      planes_done += r.size();
-      progress_.update(double(planes_done) / double(nz_));
-    });
-  }
-
-  // Vertices whose gradient vanished take the area-weighted normal of their triangles.
-  void repair_zero_normals(TriMesh& mesh) const {
-    std::vector<uint32_t> zero;
-    for (uint32_t v = 0; v < mesh.normals.size(); ++v) {
-      const Vec3f& n = mesh.normals[v];
-      if (n.x == 0 && n.y == 0 && n.z == 0) zero.push_back(v);
-    }
-    if (zero.empty()) return;
-    std::vector<Vec3d> sum(mesh.normals.size());
-    for (size_t t = 0; t < mesh.indices.size(); t += 3) {
-      const uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
-      const Vec3d pa = to_double(mesh.positions[a]);
-      const Vec3d face = cross(to_double(mesh.positions[b]) - pa, to_double(mesh.positions[c]) - pa);
-      for (uint32_t v : {a, b, c}) sum[v] = sum[v] + face;
-    }
-    for (uint32_t v : zero) {
-      const double len = norm(sum[v]);
-      mesh.normals[v] = len > 0 ? to_float((1.0 / len) * sum[v]) : Vec3f{0, 0, 1};
-    }
-  }
-
+  const TrimmedScan<T>& scan_;
   const Volume<T>& f_;
   const McOptions& o_;
-  const McTable& table_;
-  Progress& progress_;
-  const int64_t nx_, ny_, nz_;
-  std::optional<TrimmedScan<T>> scan_;
-  std::vector<uint64_t> vertex_first_;    // first vertex id of each z-plane's cut edges
-  std::vector<uint64_t> triangle_first_;  // first triangle of each slab of cells
 };
+
+// Vertices of a binary part: every crossing is at the middle of its edge (a 0/1 indicator
+// contoured at 0.5), so a vertex is the world point of a half-integer index, computed as a row's
+// start plus i steps along x.
+class MidpointVertices {
+ public:
+  explicit MidpointVertices(const RunScan& scan) : scan_(scan) {
+    const Grid& g = scan.grid();
+    origin_ = {g.origin[0], g.origin[1], g.origin[2]};
+    for (int a = 0; a < 3; ++a) {
+      Vec3d unit{a == 0 ? g.spacing[0] : 0.0, a == 1 ? g.spacing[1] : 0.0, a == 2 ? g.spacing[2] : 0.0};
+      step_[a] = g.direction * unit;
+    }
+  }
+
+  void emit_row(int axis, int64_t j, int64_t k, uint32_t id, TriMesh& mesh) const {
+    const Vec3d start = origin_ + double(j) * step_[1] + double(k) * step_[2] + 0.5 * step_[axis];
+    Vec3f* out = mesh.positions.data() + id;
+    scan_.row_edges(axis, j, k, [&](int64_t i) { *out++ = to_float(start + double(i) * step_[0]); });
+  }
+
+ private:
+  const RunScan& scan_;
+  Vec3d origin_;
+  std::array<Vec3d, 3> step_;  // world offset of one grid step along each axis
+};
+
+// Vertices whose gradient vanished take the area-weighted normal of their triangles.
+void repair_zero_normals(TriMesh& mesh) {
+  std::vector<uint32_t> zero;
+  for (uint32_t v = 0; v < mesh.normals.size(); ++v) {
+    const Vec3f& n = mesh.normals[v];
+    if (n.x == 0 && n.y == 0 && n.z == 0) zero.push_back(v);
+  }
+  if (zero.empty()) return;
+  std::vector<Vec3d> sum(mesh.normals.size());
+  for (size_t t = 0; t < mesh.indices.size(); t += 3) {
+    const uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
+    const Vec3d pa = to_double(mesh.positions[a]);
+    const Vec3d face = cross(to_double(mesh.positions[b]) - pa, to_double(mesh.positions[c]) - pa);
+    for (uint32_t v : {a, b, c}) sum[v] = sum[v] + face;
+  }
+  for (uint32_t v : zero) {
+    const double len = norm(sum[v]);
+    mesh.normals[v] = len > 0 ? to_float((1.0 / len) * sum[v]) : Vec3f{0, 0, 1};
+  }
+}
 
 }  // namespace
 
 template <class T>
 TriMesh marching_cubes(const Volume<T>& field, const McOptions& options, Progress& progress) {
-  return Extractor<T>(field, options, progress).run();
+  const auto& d = field.grid.dims;
+  if (d[0] < 2 || d[1] < 2 || d[2] < 2) return {};
+  const TrimmedScan<T> scan(field, InsideTest<T>(options.iso), progress);
+  const FieldVertices<T> vertices(scan, field, options);
+  TriMesh mesh = Extractor<TrimmedScan<T>, FieldVertices<T>>(scan, d, field.grid.mirrored(),
+                                                             options.connectivity, vertices, progress)
+                     .run(options.vertex_normals);
+  if (options.vertex_normals) repair_zero_normals(mesh);
+  return mesh;
+}
+
+TriMesh marching_cubes(const Grid& grid, const Components& components, const Component& component,
+                       const McOptions& options, Progress& progress) {
+  if (options.vertex_normals) {
+    McOptions o = options;
+    o.iso = 0.5;
+    return marching_cubes(component_mask(grid, components, component), o, progress);
+  }
+  const RunScan scan(grid, components, component);
+  const MidpointVertices vertices(scan);
+  return Extractor<RunScan, MidpointVertices>(scan, scan.dims(), grid.mirrored(), options.connectivity,
+                                              vertices, progress)
+      .run(false);
 }
 
 template TriMesh marching_cubes(const Volume<uint8_t>&, const McOptions&, Progress&);

@@ -1,7 +1,7 @@
 // Marching Cubes (Lorensen and Cline 1987) with a complete, topologically consistent case table
 // (marching_cubes_table.hpp) and extraction in the manner of VTK's flying edges: a counting pass
-// over z-planes in parallel, prefix sums, then a pass that fills disjoint output ranges. No locks,
-// no hash maps, and the output is identical for any number of threads.
+// over rows in parallel, prefix sums, then a pass that fills disjoint output ranges. No locks, no
+// hash maps, no plane of edge ids, and the output is identical for any number of threads.
 //
 // [in]  field    values at grid points, with the field's Grid placing them in the world. A grid
 //                point is inside when its value >= iso (NaN is outside). Only cells between grid
@@ -11,20 +11,21 @@
 // [out] a TriMesh in world millimetres: one shared vertex per cut edge, linearly interpolated
 //       (kept at least kMinEdgeFraction away from the edge's ends, so a corner value equal to iso
 //       never collapses vertices into zero-area triangles), unit normals from the field gradient
-//       pointing outwards (towards lower values) unless options.vertex_normals is false, triangles counter-clockwise seen from outside —
-//       also for mirrored grids (negative direction determinant), whose winding is flipped.
+//       pointing outwards (towards lower values) unless options.vertex_normals is false,
+//       triangles counter-clockwise seen from outside — also for mirrored grids (negative
+//       direction determinant), whose winding is flipped.
 // Guarantees: for a padded field the mesh is closed, edge-manifold and consistently wound.
-// Cost: O(cells) time in two passes over the field, O(vertices + triangles) memory plus two
-// planes of edge ids per worker.
+// Cost: one pass over the field to trim its rows (row_trim.hpp), then O(grid points in the
+// trimmed rows) per pass; O(vertices + triangles) memory plus a few counters per row.
 #pragma once
 
 #include <cstdint>
 
+#include "segmesh/components.hpp"
 #include "segmesh/gradient.hpp"
 #include "segmesh/progress.hpp"
 #include "segmesh/tri_mesh.hpp"
 #include "segmesh/volume.hpp"
-
 namespace segmesh {
 
 struct McOptions {
@@ -39,6 +40,15 @@ struct McOptions {
 template <class T>
 TriMesh marching_cubes(const Volume<T>& field, const McOptions& options,
                        Progress& progress = null_progress());
+
+// The surface of one connected component of a label map (its voxels contoured as a 0/1 indicator at
+// 0.5, options.iso ignored), straight from the component's runs (run_scan.hpp): no mask is built
+// and no voxel is looked at, so the cost is the component's run ends plus the output, whatever its
+// bounding box. The mesh is the one marching_cubes(component_mask(...)) gives (the same triangles
+// on the same vertices; positions agree to float rounding). With options.vertex_normals the
+// normals need the field's gradient, and the mask is built and meshed instead.
+TriMesh marching_cubes(const Grid& grid, const Components& components, const Component& component,
+                       const McOptions& options, Progress& progress = null_progress());
 
 extern template TriMesh marching_cubes(const Volume<uint8_t>&, const McOptions&, Progress&);
 extern template TriMesh marching_cubes(const Volume<int32_t>&, const McOptions&, Progress&);

@@ -271,7 +271,13 @@ Scene run_pipeline(const Image& image, const MeshingOptions& o, Progress& progre
     throw_if_cancelled(progress);
     const Component& c = *kept[p];
     Part part = describe_part(image, o, c, grey);
-    if (!grey) {
+    if (!grey && o.method == Method::marching_cubes && o.presmooth_sigma_mm == 0) {
+      // Straight from the component's runs: no mask, no pass over its bounding box.
+      part.mesh = marching_cubes(image.grid(), components, c,
+                                 {.connectivity = o.connectivity,
+                                  .normals = o.normals,
+                                  .vertex_normals = o.smooth.method == SmoothMethod::none});
+    } else if (!grey) {
       part.mesh = extract_part(image.grid(), o, 0.5, 0.0f, [&](FieldMargin m) {
         return component_mask(image.grid(), components, c, m);
       }, fallbacks);

@@ -214,6 +214,41 @@ class TrimmedScan {
     }
   }
 
+  // Calls visit(i) for every sign-changing edge along `axis` starting at grid point (i, j, k),
+  // i ascending (Marching Cubes numbers its vertices row by row and axis by axis).
+  template <class Visit>
+  void row_edges(int axis, int64_t j, int64_t k, Visit&& visit) const {
+    const RowTrim& r = trim(j, k);
+    const T* a = row(j, k);
+    if (axis == 0) {
+      for (int64_t i = r.first_cut; i < r.end_cut; ++i) {
+        if (inside_(a[i]) != inside_(a[i + 1])) visit(i);
+      }
+      return;
+    }
+    if (axis == 1 ? j + 1 >= ny_ : k + 1 >= nz_) return;
+    const int64_t jb = axis == 1 ? j + 1 : j, kb = axis == 1 ? k : k + 1;
+    const GridRange range = pair_range(r, trim(jb, kb), nx_);
+    const T* b = row(jb, kb);
+    for (int64_t i = range.lo; i < range.hi; ++i) {
+      if (inside_(a[i]) != inside_(b[i])) visit(i);
+    }
+  }
+
+  int64_t row_edge_count(int axis, int64_t j, int64_t k) const {
+    int64_t n = 0;
+    row_edges(axis, j, k, [&](int64_t) { ++n; });
+    return n;
+  }
+
+  // The sum of weight(case) over the cells `cells` visits.
+  template <class Weight>
+  int64_t cell_sum(int64_t j, int64_t k, Weight&& weight) const {
+    int64_t sum = 0;
+    cells(j, k, [&](int64_t, int cs) { sum += weight(cs); });
+    return sum;
+  }
+
   bool inside(int64_t i, int64_t j, int64_t k) const { return inside_(row(j, k)[i]); }
 
   // Numbers the cut edges of plane k from `first` in cut_edges order into `ids`, calling

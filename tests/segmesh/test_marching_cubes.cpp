@@ -225,12 +225,6 @@ TEST(MarchingCubes, EmptyAndFullFieldsGiveNoTriangles) {
   EXPECT_TRUE(marching_cubes(v, {}).empty());
 }
 
-}  // namespace
-}  // namespace segmesh
-
-namespace segmesh {
-namespace {
-
 TEST(MarchingCubes, WithoutNormalsTheSameSurfaceAndNoNormals) {
   std::mt19937 rng(5);
   std::bernoulli_distribution coin(0.4);
