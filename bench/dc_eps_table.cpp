@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const Image image = read_volume(argv[1]);
-  const auto& labels = std::get<LabelVolume>(image.volume);
+  const LabelVolume labels = image.labels_int32();
   const Components comps = find_components(labels, {});
   auto score = [&](auto&& extract) {
     double rho_sum = 0, volume = 0, voxels = 0;

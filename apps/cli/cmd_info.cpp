@@ -2,6 +2,8 @@
 // label map every label with its voxel count, physical volume, connected components and name.
 #include <cstdio>
 #include <string>
+#include <type_traits>
+#include <variant>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -50,22 +52,25 @@ int run_info(const InfoArgs& args) {
   std::vector<LabelRow> rows;
   size_t distinct = 0;
   bool label_map = image.is_integer();
-  if (label_map) {
-    const auto& labels = std::get<LabelVolume>(image.volume);
-    const auto counts = count_labels(labels);
-    distinct = counts.size();
-    label_map = distinct <= kMaxLabelsWithoutSelection;
-    if (label_map) {
-      const Components components = find_components(labels, {.connectivity = args.connectivity});
-      for (const LabelCount& c : counts) {
-        if (c.label == 0) continue;
-        LabelRow row{c.label, c.voxels, double(c.voxels) * g.voxel_volume(), 0, ""};
-        for (const Component& comp : components.components) row.components += comp.label == c.label;
-        if (const LabelInfo* info = find_label_info(names, c.label)) row.name = info->name;
-        rows.push_back(row);
-      }
-    }
-  }
+  std::visit(
+      [&](const auto& labels) {
+        using T = typename std::decay_t<decltype(labels.voxels)>::value_type;
+        if constexpr (std::is_integral_v<T>) {
+          const auto counts = count_labels(labels);
+          distinct = counts.size();
+          label_map = distinct <= kMaxLabelsWithoutSelection;
+          if (!label_map) return;
+          const Components components = find_components(labels, {.connectivity = args.connectivity});
+          for (const LabelCount& c : counts) {
+            if (c.label == 0) continue;
+            LabelRow row{c.label, c.voxels, double(c.voxels) * g.voxel_volume(), 0, ""};
+            for (const Component& comp : components.components) row.components += comp.label == c.label;
+            if (const LabelInfo* info = find_label_info(names, c.label)) row.name = info->name;
+            rows.push_back(row);
+          }
+        }
+      },
+      image.volume);
 
   if (args.json) {
     nlohmann::json j = grid_json(g);

@@ -63,8 +63,14 @@ Volume<float> component_values(const Volume<T>& volume, const Components& compon
   return field;
 }
 
-template Volume<float> component_values(const Volume<int32_t>&, const Components&,
-                                        const Component&, double, float, FieldMargin);
+template Volume<float> component_values(const Volume<uint8_t>&, const Components&, const Component&,
+                                        double, float, FieldMargin);
+template Volume<float> component_values(const Volume<int16_t>&, const Components&, const Component&,
+                                        double, float, FieldMargin);
+template Volume<float> component_values(const Volume<uint16_t>&, const Components&, const Component&,
+                                        double, float, FieldMargin);
+template Volume<float> component_values(const Volume<int32_t>&, const Components&, const Component&,
+                                        double, float, FieldMargin);
 template Volume<float> component_values(const Volume<float>&, const Components&, const Component&,
                                         double, float, FieldMargin);
 

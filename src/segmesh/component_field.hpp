@@ -34,11 +34,15 @@ Volume<float> component_values(const Volume<T>& volume, const Components& compon
                                const Component& component, double iso, float background,
                                FieldMargin margin = kDefaultFieldMargin);
 
+extern template Volume<float> component_values(const Volume<uint8_t>&, const Components&,
+                                               const Component&, double, float, FieldMargin);
+extern template Volume<float> component_values(const Volume<int16_t>&, const Components&,
+                                               const Component&, double, float, FieldMargin);
+extern template Volume<float> component_values(const Volume<uint16_t>&, const Components&,
+                                               const Component&, double, float, FieldMargin);
 extern template Volume<float> component_values(const Volume<int32_t>&, const Components&,
-                                               const Component&, double, float,
-                                               FieldMargin);
+                                               const Component&, double, float, FieldMargin);
 extern template Volume<float> component_values(const Volume<float>&, const Components&,
-                                               const Component&, double, float,
-                                               FieldMargin);
+                                               const Component&, double, float, FieldMargin);
 
 }  // namespace segmesh

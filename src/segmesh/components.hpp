@@ -61,8 +61,10 @@ struct ComponentOptions {
   std::vector<int32_t> labels;   // labels to split; empty: every non-zero label
 };
 
-// The runs of every non-zero label: one parallel pass over the voxels.
-LabelRuns find_label_runs(const LabelVolume& volume, Progress& progress = null_progress());
+// The runs of every non-zero label: one parallel pass over the voxels (T: an integer voxel type of
+// AnyVolume).
+template <class T>
+LabelRuns find_label_runs(const Volume<T>& volume, Progress& progress = null_progress());
 // The runs of the voxels whose value is >= iso, as label 1.
 template <class T>
 LabelRuns find_runs_above(const Volume<T>& volume, double iso, Progress& progress = null_progress());
@@ -72,7 +74,8 @@ std::vector<LabelCount> count_run_labels(const LabelRuns& runs);
 Components join_runs(const LabelRuns& runs, const ComponentOptions& options);
 
 // Components of the labels of a label map (find_label_runs, then join_runs).
-Components find_components(const LabelVolume& volume, const ComponentOptions& options,
+template <class T>
+Components find_components(const Volume<T>& volume, const ComponentOptions& options,
                            Progress& progress = null_progress());
 
 // Components of the voxels whose value is >= iso (a grey-value volume); they get label 1.
@@ -80,8 +83,22 @@ template <class T>
 Components find_components_above(const Volume<T>& volume, double iso, int connectivity,
                                  Progress& progress = null_progress());
 
+extern template LabelRuns find_label_runs(const Volume<uint8_t>&, Progress&);
+extern template LabelRuns find_label_runs(const Volume<int16_t>&, Progress&);
+extern template LabelRuns find_label_runs(const Volume<uint16_t>&, Progress&);
+extern template LabelRuns find_label_runs(const Volume<int32_t>&, Progress&);
+extern template Components find_components(const Volume<uint8_t>&, const ComponentOptions&, Progress&);
+extern template Components find_components(const Volume<int16_t>&, const ComponentOptions&, Progress&);
+extern template Components find_components(const Volume<uint16_t>&, const ComponentOptions&, Progress&);
+extern template Components find_components(const Volume<int32_t>&, const ComponentOptions&, Progress&);
+extern template LabelRuns find_runs_above(const Volume<uint8_t>&, double, Progress&);
+extern template LabelRuns find_runs_above(const Volume<int16_t>&, double, Progress&);
+extern template LabelRuns find_runs_above(const Volume<uint16_t>&, double, Progress&);
 extern template LabelRuns find_runs_above(const Volume<int32_t>&, double, Progress&);
 extern template LabelRuns find_runs_above(const Volume<float>&, double, Progress&);
+extern template Components find_components_above(const Volume<uint8_t>&, double, int, Progress&);
+extern template Components find_components_above(const Volume<int16_t>&, double, int, Progress&);
+extern template Components find_components_above(const Volume<uint16_t>&, double, int, Progress&);
 extern template Components find_components_above(const Volume<int32_t>&, double, int, Progress&);
 extern template Components find_components_above(const Volume<float>&, double, int, Progress&);
 

@@ -10,7 +10,8 @@
 
 namespace segmesh {
 
-std::vector<LabelCount> count_labels(const LabelVolume& volume) {
+template <class T>
+std::vector<LabelCount> count_labels(const Volume<T>& volume) {
   using Counts = std::unordered_map<int32_t, int64_t>;
   const auto& v = volume.voxels;
   const Counts counts = tbb::parallel_reduce(
@@ -71,6 +72,13 @@ ValueRange value_range(const Volume<T>& volume) {
   return {acc.min, acc.max, acc.non_finite};
 }
 
+template std::vector<LabelCount> count_labels(const Volume<uint8_t>&);
+template std::vector<LabelCount> count_labels(const Volume<int16_t>&);
+template std::vector<LabelCount> count_labels(const Volume<uint16_t>&);
+template std::vector<LabelCount> count_labels(const Volume<int32_t>&);
+template ValueRange value_range(const Volume<uint8_t>&);
+template ValueRange value_range(const Volume<int16_t>&);
+template ValueRange value_range(const Volume<uint16_t>&);
 template ValueRange value_range(const Volume<int32_t>&);
 template ValueRange value_range(const Volume<float>&);
 

@@ -14,8 +14,9 @@ struct LabelCount {
   int64_t voxels = 0;
 };
 
-// Every value that occurs (0 included), ascending.
-std::vector<LabelCount> count_labels(const LabelVolume& volume);
+// Every value that occurs (0 included), ascending; T an integer voxel type of AnyVolume.
+template <class T>
+std::vector<LabelCount> count_labels(const Volume<T>& volume);
 
 struct ValueRange {
   double min = 0, max = 0;  // over finite values
@@ -25,6 +26,13 @@ struct ValueRange {
 template <class T>
 ValueRange value_range(const Volume<T>& volume);
 
+extern template std::vector<LabelCount> count_labels(const Volume<uint8_t>&);
+extern template std::vector<LabelCount> count_labels(const Volume<int16_t>&);
+extern template std::vector<LabelCount> count_labels(const Volume<uint16_t>&);
+extern template std::vector<LabelCount> count_labels(const Volume<int32_t>&);
+extern template ValueRange value_range(const Volume<uint8_t>&);
+extern template ValueRange value_range(const Volume<int16_t>&);
+extern template ValueRange value_range(const Volume<uint16_t>&);
 extern template ValueRange value_range(const Volume<int32_t>&);
 extern template ValueRange value_range(const Volume<float>&);
 

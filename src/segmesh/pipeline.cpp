@@ -3,11 +3,13 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <cmath>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <string>
+#include <type_traits>
+#include <variant>
 
 #include "segmesh/component_field.hpp"
 #include "segmesh/components.hpp"
@@ -61,7 +63,8 @@ void validate(const MeshingOptions& o) {
 }
 
 // The components to mesh, checked against what the volume holds.
-Components label_components(const Image& image, const LabelVolume& labels,
+template <class T>
+Components label_components(const Image& image, const Volume<T>& labels,
                             const MeshingOptions& o, Progress& progress) {
   // One pass over the voxels finds every label's runs; the label counts and the components of the
   // selected labels come from the runs.
@@ -215,17 +218,8 @@ void color_scene_by_quality(Scene& scene) {
   });
 }
 
-namespace {
-
-// The pipeline. With `release`, the volume's voxels are freed as soon as extraction is done, so
-// smoothing and writing do not carry them (build_scene(Image&&)).
-Scene run_pipeline(const Image& image, const MeshingOptions& o, Progress& progress,
-                   PipelineStats* timings, Scene* unsmoothed, Image* release) {
+PipelineParts find_parts(const Image& image, const MeshingOptions& o, Progress& progress) {
   validate(o);
-  PipelineStats local;
-  PipelineStats& t = timings ? *timings : local;
-  Scene scene;
-  scene.grid = image.grid();
   const bool grey = o.iso.has_value();
   if (!grey && !image.is_integer()) {
     throw Error(image.path + ": " + image.voxel_type +
@@ -234,42 +228,46 @@ Scene run_pipeline(const Image& image, const MeshingOptions& o, Progress& progre
   if (grey && !o.labels.empty()) {
     throw Error("--labels and --iso exclude each other: --iso meshes a grey-value volume");
   }
-
-  // Connected components.
   progress.step("components");
-  auto start = Clock::now();
-  Components components;
-  ValueRange range;
-  if (!grey) {
-    components = label_components(image, std::get<LabelVolume>(image.volume), o, progress);
-  } else if (image.is_integer()) {
-    components = iso_components(image, std::get<LabelVolume>(image.volume), *o.iso, o, progress, range);
-  } else {
-    components = iso_components(image, std::get<ScalarVolume>(image.volume), *o.iso, o, progress, range);
+  PipelineParts parts;
+  std::visit(
+      [&](const auto& volume) {
+        using T = typename std::decay_t<decltype(volume.voxels)>::value_type;
+        if (grey) {
+          parts.components = iso_components(image, volume, *o.iso, o, progress, parts.range);
+        } else if constexpr (std::is_integral_v<T>) {
+          parts.components = label_components(image, volume, o, progress);
+        }
+      },
+      image.volume);
+  for (size_t c = 0; c < parts.components.components.size(); ++c) {
+    if (parts.components.components[c].voxels >= o.min_voxels) parts.kept.push_back(c);
   }
-  std::vector<const Component*> kept;
-  for (const Component& c : components.components) {
-    if (c.voxels >= o.min_voxels) kept.push_back(&c);
-  }
-  t.dropped_components = static_cast<int64_t>(components.components.size() - kept.size());
-  if (kept.empty()) {
+  if (parts.kept.empty()) {
     throw Error(image.path + ": every component is smaller than --min-voxels " +
                 std::to_string(o.min_voxels) + "; lower it");
   }
-  t.components_ms = ms_since(start);
+  return parts;
+}
 
-  // Extraction, one part per component.
+Scene extract_parts(const Image& image, const PipelineParts& parts, const MeshingOptions& o,
+                    Progress& progress, int64_t* presmooth_fallbacks) {
+  validate(o);
+  const bool grey = o.iso.has_value();
   progress.step(o.method == Method::dual_contouring ? "dual contouring" : "marching cubes");
-  start = Clock::now();
-  scene.parts.resize(kept.size());
+  Scene scene;
+  scene.grid = image.grid();
+  scene.parts.resize(parts.kept.size());
+  const Components& components = parts.components;
   int64_t total_voxels = 0;
-  for (const Component* c : kept) total_voxels += c->voxels;
+  for (size_t c : parts.kept) total_voxels += components.components[c].voxels;
   std::atomic<int64_t> done_voxels{0}, fallbacks{0};
   // Outside the volume a grey-value field continues with its lowest value (or just below iso).
-  const float background = grey ? static_cast<float>(std::min(range.min, *o.iso - 1.0)) : 0.0f;
-  tbb::parallel_for(size_t{0}, kept.size(), [&](size_t p) {
+  const float background =
+      grey ? static_cast<float>(std::min(parts.range.min, *o.iso - 1.0)) : 0.0f;
+  tbb::parallel_for(size_t{0}, parts.kept.size(), [&](size_t p) {
     throw_if_cancelled(progress);
-    const Component& c = *kept[p];
+    const Component& c = components.components[parts.kept[p]];
     Part part = describe_part(image, o, c, grey);
     if (!grey && o.method == Method::marching_cubes && o.presmooth_sigma_mm == 0) {
       // Straight from the component's runs: no mask, no pass over its bounding box.
@@ -293,8 +291,26 @@ Scene run_pipeline(const Image& image, const MeshingOptions& o, Progress& progre
     scene.parts[p] = std::move(part);
     progress.update(double(done_voxels += c.voxels) / double(total_voxels));
   });
+  if (presmooth_fallbacks) *presmooth_fallbacks = fallbacks;
+  return scene;
+}
+
+namespace {
+
+// The pipeline. With `release`, the volume's voxels are freed as soon as extraction is done, so
+// smoothing and writing do not carry them (build_scene(Image&&)).
+Scene run_pipeline(const Image& image, const MeshingOptions& o, Progress& progress,
+                   PipelineStats* timings, Scene* unsmoothed, Image* release) {
+  PipelineStats local;
+  PipelineStats& t = timings ? *timings : local;
+  auto start = Clock::now();
+  const PipelineParts parts = find_parts(image, o, progress);
+  t.dropped_components = static_cast<int64_t>(parts.components.components.size() - parts.kept.size());
+  t.components_ms = ms_since(start);
+
+  start = Clock::now();
+  Scene scene = extract_parts(image, parts, o, progress, &t.presmooth_fallbacks);
   t.extract_ms = ms_since(start);
-  t.presmooth_fallbacks = fallbacks;
   if (unsmoothed) *unsmoothed = scene;
   if (release) {
     std::visit([](auto& v) { v.voxels = {}; }, release->volume);

@@ -5,8 +5,9 @@
 //          ──► smooth ──► [quality colours] ──► Scene
 //
 // Label maps: every selected label is split into connected components (components.hpp); each
-// component becomes a Part, extracted from its own 0/1 indicator at 0.5 (component_field.hpp), so
-// parts never share vertices and each is closed on its own. Extraction is Marching Cubes
+// component becomes a Part, extracted from its own 0/1 indicator at 0.5 (Marching Cubes straight
+// from the component's runs, run_scan.hpp; otherwise from a mask, component_field.hpp), so parts
+// never share vertices and each is closed on its own. Extraction is Marching Cubes
 // (marching_cubes.hpp) or Dual Contouring (dual_contouring.hpp); with presmooth_sigma_mm > 0 the
 // part's field is first smoothed by a Gaussian (gaussian_filter.hpp) so binary labels get sub-voxel
 // shape, at a cost in volume. Grey-value volumes (--iso): the
@@ -20,9 +21,11 @@
 #include <string_view>
 #include <vector>
 
+#include "segmesh/components.hpp"
 #include "segmesh/gradient.hpp"
 #include "segmesh/image.hpp"
 #include "segmesh/label_info.hpp"
+#include "segmesh/label_stats.hpp"
 #include "segmesh/progress.hpp"
 #include "segmesh/scene.hpp"
 #include "segmesh/smoothing.hpp"
@@ -66,6 +69,22 @@ struct PipelineStats {
 // A label map with more distinct values than this is taken for a grey-value image unless the
 // labels to mesh are named explicitly.
 inline constexpr size_t kMaxLabelsWithoutSelection = 1000;
+
+// The pipeline's steps, for front ends that time or repeat one of them (the benchmarks);
+// build_scene runs them in this order.
+// 1. The connected components of the selected labels (or of the voxels at or above --iso), in
+//    components.hpp's order, and which of them are meshed (--min-voxels).
+struct PipelineParts {
+  Components components;
+  std::vector<size_t> kept;  // indices into components.components, in order
+  ValueRange range;          // grey-value volumes: the value range (the background outside)
+};
+PipelineParts find_parts(const Image& image, const MeshingOptions& options,
+                         Progress& progress = null_progress());
+// 2. One Part per kept component, extracted in parallel (not smoothed).
+Scene extract_parts(const Image& image, const PipelineParts& parts, const MeshingOptions& options,
+                    Progress& progress = null_progress(), int64_t* presmooth_fallbacks = nullptr);
+// 3. smooth_scene (below), then color_scene_by_quality when asked.
 
 // Builds the scene. Throws segmesh::Error (naming image.path) for requests the volume cannot
 // satisfy: a float volume without iso, a label that is not in the volume, no foreground at all,

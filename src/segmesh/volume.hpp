@@ -1,9 +1,11 @@
-// Volume<T>: a Grid plus its voxels, x fastest. The two kinds the pipeline meets:
-// LabelVolume (integer labels of any integer file type, widened to int32) and ScalarVolume
-// (grey values such as CT Hounsfield units, as float).
+// Volume<T>: a Grid plus its voxels, x fastest. The kinds the pipeline meets: integer volumes
+// (labels, or integer grey values such as CT in HU) kept in the narrowest of uint8, int16, uint16
+// and int32 that holds the file's type, so a uint8 label map costs one byte per voxel; and
+// ScalarVolume (floating-point grey values, as float). LabelVolume is the widest integer kind.
 #pragma once
 
 #include <cstdint>
+#include <variant>
 #include <vector>
 
 #include "segmesh/grid.hpp"
@@ -21,5 +23,9 @@ struct Volume {
 
 using LabelVolume = Volume<int32_t>;
 using ScalarVolume = Volume<float>;
+
+// Every voxel type an Image stores (image.hpp); the integer ones first.
+using AnyVolume =
+    std::variant<Volume<uint8_t>, Volume<int16_t>, Volume<uint16_t>, Volume<int32_t>, Volume<float>>;
 
 }  // namespace segmesh

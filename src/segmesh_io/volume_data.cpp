@@ -176,27 +176,57 @@ constexpr size_t kBlockBytes = 16384;
 constexpr size_t kMaxStagedPrefix = size_t(1) << 20;
 }  // namespace
 
+namespace {
+
+// The storage an integer file starts in: the narrowest kind that holds every value of its type
+// (a rescaled file can produce any value, so it starts in int32).
+VoxelSink::IntStore initial_int_store(VoxelType type, const Rescale& rescale) {
+  if (rescale.identity()) {
+    switch (type) {
+      case VoxelType::uint8:
+        return std::vector<uint8_t>();
+      case VoxelType::int8:
+      case VoxelType::int16:
+        return std::vector<int16_t>();
+      case VoxelType::uint16:
+        return std::vector<uint16_t>();
+      default:
+        break;
+    }
+  }
+  return std::vector<int32_t>();
+}
+
+template <class S>
+bool fits(double value) {
+  return value == std::nearbyint(value) && value >= double(std::numeric_limits<S>::min()) &&
+         value <= double(std::numeric_limits<S>::max());
+}
+
+}  // namespace
+
 VoxelSink::VoxelSink(fs::path path, size_t count, VoxelType file_type, Rescale rescale)
     : path_(std::move(path)),
       count_(count),
       rescale_(rescale),
-      file_is_float_(!is_integer(file_type)),
-      is_float_(file_is_float_) {
+      file_type_(file_type),
+      is_float_(!is_integer(file_type)),
+      ints_(initial_int_store(file_type, rescale)) {
+  reserve();
+}
+
+void VoxelSink::reserve() {
   if (is_float_) {
-    floats_.reserve(count);
+    floats_.reserve(count_);
   } else {
-    ints_.reserve(count);
+    std::visit([&](auto& store) { store.reserve(count_); }, ints_);
   }
 }
 
-int32_t* VoxelSink::int_room(size_t n) {
-  if (staged_ != Staged::ints) ints_.resize(filled_ + n);  // within the reservation: no move
-  return ints_.data() + filled_;
-}
-
-float* VoxelSink::float_room(size_t n) {
-  if (staged_ != Staged::floats) floats_.resize(filled_ + n);
-  return floats_.data() + filled_;
+template <class S>
+S* VoxelSink::room(std::vector<S>& store, size_t n) {
+  if (!store_staged_) store.resize(filled_ + n);  // within the reservation: no move
+  return store.data() + filled_;
 }
 
 void VoxelSink::append(VoxelType type, const void* data, size_t n, bool swap_bytes) {
@@ -219,6 +249,45 @@ void VoxelSink::append_typed(const unsigned char* data, size_t n, bool swap_byte
   }
 }
 
+// Converts values into the integer store of type S; stops at the first value S cannot hold (not
+// a whole number, or out of range) and returns how many it stored.
+template <class S, class T>
+size_t VoxelSink::convert_ints(std::vector<S>& store, const T* values, size_t n) {
+  S* out = room(store, n);
+  if constexpr (std::is_integral_v<T>) {
+    if (rescale_.identity()) {
+      if constexpr (std::in_range<S>(std::numeric_limits<T>::min()) &&
+                    std::in_range<S>(std::numeric_limits<T>::max())) {
+        for (size_t k = 0; k < n; ++k) out[k] = static_cast<S>(values[k]);  // vectorises
+        filled_ += n;
+        return n;
+      } else {
+        for (size_t k = 0; k < n; ++k) {
+          if (!std::in_range<S>(values[k])) {
+            filled_ += k;
+            return k;
+          }
+          out[k] = static_cast<S>(values[k]);
+        }
+        filled_ += n;
+        return n;
+      }
+    }
+  }
+  // Rescaled or floating-point data in an integer file (DICOM after ITK's rescale): stays an
+  // integer while every value is a whole number in range.
+  for (size_t k = 0; k < n; ++k) {
+    const double value = as_double(values[k]) * rescale_.slope + rescale_.intercept;
+    if (!fits<S>(value)) {
+      filled_ += k;
+      return k;
+    }
+    out[k] = static_cast<S>(value);
+  }
+  filled_ += n;
+  return n;
+}
+
 template <class T>
 void VoxelSink::convert_block(const T* values, size_t n) {
   if (value_error_) {  // deferred: the volume is refused anyway, the values are only counted
@@ -226,47 +295,30 @@ void VoxelSink::convert_block(const T* values, size_t n) {
     return;
   }
   size_t i = 0;
-  if (!is_float_) {
-    int32_t* out = int_room(n);
+  while (!is_float_ && i < n) {
+    i += std::visit([&](auto& store) { return convert_ints(store, values + i, n - i); }, ints_);
+    if (i == n) return;
+    // values[i] does not fit the store: a wider integer store, or float, or a value error.
+    const double value = as_double(values[i]) * rescale_.slope + rescale_.intercept;
+    if (fits<int32_t>(value) && !std::holds_alternative<std::vector<int32_t>>(ints_)) {
+      widen_to_int32();
+      continue;
+    }
     if constexpr (std::is_integral_v<T>) {
       if (rescale_.identity()) {
-        if constexpr (!std::in_range<int32_t>(std::numeric_limits<T>::min()) ||
-                      !std::in_range<int32_t>(std::numeric_limits<T>::max())) {
-          bool outside = false;
-          for (size_t k = 0; k < n; ++k) outside |= !std::in_range<int32_t>(values[k]);
-          if (outside) {
-            for (size_t k = 0; k < n; ++k) {
-              if (!std::in_range<int32_t>(values[k])) {
-                Error error = file_error(path_, "voxel value " + value_text(values[k]) +
-                                                    " does not fit a 32-bit signed integer, "
-                                                    "which segmesh uses for labels; relabel the "
-                                                    "volume with values from -2147483648 to "
-                                                    "2147483647");
-                if (!defer_) throw error;
-                value_error_ = std::move(error);
-                filled_ += n;
-                return;
-              }
-            }
-          }
-        }
-        for (size_t k = 0; k < n; ++k) out[k] = static_cast<int32_t>(values[k]);
-        filled_ += n;
+        Error error = file_error(path_, "voxel value " + value_text(values[i]) +
+                                            " does not fit a 32-bit signed integer, which segmesh "
+                                            "uses for labels; relabel the volume with values from "
+                                            "-2147483648 to 2147483647");
+        if (!defer_) throw error;
+        value_error_ = std::move(error);
+        filled_ += n - i;
         return;
       }
     }
-    // Rescaled or floating-point data in an integer file (DICOM after ITK's rescale): stays
-    // int32 while every value is a whole number in range.
-    for (; i < n; ++i) {
-      const double value = as_double(values[i]) * rescale_.slope + rescale_.intercept;
-      if (!(value == std::nearbyint(value) && value >= INT32_MIN && value <= INT32_MAX)) break;
-      out[i] = static_cast<int32_t>(value);
-    }
-    filled_ += i;
-    if (i == n) return;
     promote_to_float();
   }
-  float* out = float_room(n - i);
+  float* out = room(floats_, n - i);
   for (size_t k = i; k < n; ++k) {
     const double value = as_double(values[k]) * rescale_.slope + rescale_.intercept;
     out[k - i] = static_cast<float>(value);
@@ -274,78 +326,94 @@ void VoxelSink::convert_block(const T* values, size_t n) {
   filled_ += n - i;
 }
 
+void VoxelSink::retire_store() {
+  // A staged store still holds file bytes being converted: keep it alive (moving a vector keeps
+  // its buffer) until finish().
+  if (store_staged_) retired_ = std::move(ints_);
+  store_staged_ = false;
+}
+
+void VoxelSink::widen_to_int32() {
+  std::vector<int32_t> wide;
+  wide.reserve(count_);
+  std::visit([&](const auto& store) {
+    wide.assign(store.begin(), store.begin() + static_cast<std::ptrdiff_t>(filled_));
+  }, ints_);
+  retire_store();
+  ints_ = std::move(wide);
+}
+
 void VoxelSink::promote_to_float() {
   floats_.reserve(count_);
-  floats_.assign(ints_.begin(), ints_.begin() + static_cast<std::ptrdiff_t>(filled_));
-  // Staged: ints_ still holds the file bytes being converted; finish() frees it.
-  if (staged_ != Staged::ints) std::vector<int32_t>().swap(ints_);
+  std::visit([&](const auto& store) {
+    floats_.assign(store.begin(), store.begin() + static_cast<std::ptrdiff_t>(filled_));
+  }, ints_);
+  retire_store();
+  ints_ = std::vector<int32_t>();
   is_float_ = true;
 }
 
 unsigned char* VoxelSink::stage(size_t prefix, VoxelType type) {
   const size_t size = voxel_type_size(type);
-  if (size > 4 || filled_ != 0 || staged_ != Staged::none || prefix > kMaxStagedPrefix) {
+  const size_t stored = is_float_ ? sizeof(float)
+                                  : std::visit([](const auto& v) { return sizeof(v[0]); }, ints_);
+  if (size > stored || filled_ != 0 || store_staged_ || prefix > kMaxStagedPrefix) {
     return nullptr;
   }
-  // File bytes end where the storage ends; the first voxel's bytes start at (4 - size) * count
-  // or later, so widening block by block from the front writes only bytes already read.
-  const size_t elements = count_ + (prefix + 3) / 4 + 16;
+  // File bytes end where the storage ends; the first voxel's bytes start at
+  // (stored - size) * count or later, so widening block by block from the front writes only
+  // bytes already read.
+  const size_t elements = count_ + (prefix + stored - 1) / stored + 16;
   unsigned char* storage;
   if (is_float_) {
     floats_.resize(elements);
     storage = reinterpret_cast<unsigned char*>(floats_.data());
-    staged_ = Staged::floats;
   } else {
-    ints_.resize(elements);
-    storage = reinterpret_cast<unsigned char*>(ints_.data());
-    staged_ = Staged::ints;
+    storage = std::visit([&](auto& v) {
+      v.resize(elements);
+      return reinterpret_cast<unsigned char*>(v.data());
+    }, ints_);
   }
-  staged_at_ = elements * 4 - count_ * size;
+  store_staged_ = true;
+  staged_data_ = storage;
+  staged_at_ = elements * stored - count_ * size;
   return storage + staged_at_ - prefix;
 }
 
 void VoxelSink::append_staged(VoxelType type, bool swap_bytes) {
-  if (staged_ == Staged::none || filled_ != 0) {
-    throw std::logic_error("VoxelSink: nothing staged");
-  }
-  const unsigned char* storage = staged_ == Staged::ints
-                                     ? reinterpret_cast<const unsigned char*>(ints_.data())
-                                     : reinterpret_cast<const unsigned char*>(floats_.data());
-  append(type, storage + staged_at_, count_, swap_bytes);
+  if (!store_staged_ || filled_ != 0) throw std::logic_error("VoxelSink: nothing staged");
+  append(type, staged_data_ + staged_at_, count_, swap_bytes);
 }
 
 void VoxelSink::clear() {
   filled_ = 0;
   value_error_.reset();
-  staged_ = Staged::none;
+  store_staged_ = false;
+  staged_data_ = nullptr;
   staged_at_ = 0;
-  is_float_ = file_is_float_;
-  std::vector<int32_t>().swap(ints_);
+  retired_ = std::vector<int32_t>();
+  is_float_ = !is_integer(file_type_);
+  ints_ = initial_int_store(file_type_, rescale_);
   std::vector<float>().swap(floats_);
-  if (is_float_) {
-    floats_.reserve(count_);
-  } else {
-    ints_.reserve(count_);
-  }
+  reserve();
 }
 
-std::variant<LabelVolume, ScalarVolume> VoxelSink::finish(const Grid& grid) && {
+AnyVolume VoxelSink::finish(const Grid& grid) && {
   if (value_error_) throw *value_error_;
   if (filled_ != count_ || grid.voxel_count() != count_) {
     throw std::logic_error("VoxelSink: voxel count does not match the grid");
   }
-  if (staged_ == Staged::ints) {
-    if (is_float_) {
-      std::vector<int32_t>().swap(ints_);
-    } else {
-      ints_.resize(count_);  // keeps the capacity: no copy of the volume
-    }
-  } else if (staged_ == Staged::floats) {
-    floats_.resize(count_);
+  retired_ = std::vector<int32_t>();
+  store_staged_ = false;
+  if (is_float_) {
+    floats_.resize(count_);  // a staged store keeps its capacity: no copy of the volume
+    return ScalarVolume{grid, std::move(floats_)};
   }
-  staged_ = Staged::none;
-  if (is_float_) return ScalarVolume{grid, std::move(floats_)};
-  return LabelVolume{grid, std::move(ints_)};
+  return std::visit([&](auto& store) -> AnyVolume {
+    store.resize(count_);
+    using S = typename std::decay_t<decltype(store)>::value_type;
+    return Volume<S>{grid, std::move(store)};
+  }, ints_);
 }
 
 // ---------------------------------------------------------------------------------------------

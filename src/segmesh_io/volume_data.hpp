@@ -2,10 +2,10 @@
 //
 // - VoxelType: the file's own element type, with the names Image::voxel_type reports.
 // - VoxelSink: converts voxels of any element type, in file order, into the Image's variant:
-//   integer files become int32 (values outside int32 are an Error, never wrapped), float files
-//   float. A rescale (NIfTI scl_slope/scl_inter, DICOM slope/intercept) keeps an integer file in
-//   int32 as long as every rescaled value is a whole number in range, and turns it into float
-//   otherwise. Storage is reserved for the whole volume up front (address space only) and filled
+//   integer files become the narrowest of uint8, int16, uint16, int32 that holds the file's type
+//   (values outside int32 are an Error, never wrapped), float files float. A rescale (NIfTI
+//   scl_slope/scl_inter, DICOM slope/intercept) keeps an integer file in int32 as long as every
+//   rescaled value is a whole number in range, and turns it into float otherwise. Storage is reserved for the whole volume up front (address space only) and filled
 //   as voxels arrive, so memory is touched only for data the file really holds.
 // - DataStream: the bytes of a file from an offset, raw or inflated (zlib or gzip, several gzip
 //   members in a row as bgzip writes them); a corrupt stream is an Error.
@@ -62,20 +62,26 @@ struct Rescale {
 
 class VoxelSink {
  public:
-  // Reserves (address space only) `count` voxels. `file_type` decides int32 or float;
-  // `rescale` applies to every appended value.
+  // The integer stores: a file starts in the narrowest one that holds its type (uint8 in uint8,
+  // int8 and int16 in int16, uint16 in uint16, everything else and every rescaled file in int32).
+  using IntStore = std::variant<std::vector<uint8_t>, std::vector<int16_t>, std::vector<uint16_t>,
+                                std::vector<int32_t>>;
+
+  // Reserves (address space only) `count` voxels. `file_type` decides the store; `rescale`
+  // applies to every appended value.
   VoxelSink(std::filesystem::path path, size_t count, VoxelType file_type, Rescale rescale = {});
 
   // Converts and stores the next `n` values of `type` found at `data` (byte-swapped first when
-  // `swap_bytes`). Throws Error for an integer value outside int32.
+  // `swap_bytes`). A value the store cannot hold widens it to int32 (or, not a whole number, to
+  // float). Throws Error for an integer value outside int32.
   void append(VoxelType type, const void* data, size_t n, bool swap_bytes = false);
 
   // In-place decoding. Makes room in the voxel storage itself for `prefix` bytes followed by the
   // file bytes of all `count` voxels of `type`, placed at the storage's end so that
   // append_staged() can widen them front to back without overwriting bytes not yet read.
   // Returns where the prefix starts, or nullptr when the sink already holds voxels or `type` is
-  // wider than the stored 32-bit values (the caller then decodes through append()). Touches the
-  // whole storage: call it only once the data are known to be there (e.g. a gzip trailer agrees).
+  // wider than the store (the caller then decodes through append()). Touches the whole storage:
+  // call it only once the data are known to be there (e.g. a gzip trailer agrees).
   unsigned char* stage(size_t prefix, VoxelType type);
   // Converts the staged file bytes (as append() would, byte-swapped when `swap_bytes`).
   void append_staged(VoxelType type, bool swap_bytes);
@@ -90,33 +96,39 @@ class VoxelSink {
 
   size_t filled() const { return filled_; }
 
-  // The voxels as LabelVolume or ScalarVolume on `grid`; all `count` values must be appended.
-  // Throws the deferred value Error, if any.
-  std::variant<LabelVolume, ScalarVolume> finish(const Grid& grid) &&;
+  // The voxels as the Image's volume on `grid`; all `count` values must be appended. Throws the
+  // deferred value Error, if any.
+  AnyVolume finish(const Grid& grid) &&;
 
  private:
-  enum class Staged { none, ints, floats };
-
+  void reserve();
+  template <class S>
+  S* room(std::vector<S>& store, size_t n);
   template <class T>
   void append_typed(const unsigned char* data, size_t n, bool swap_bytes);
   template <class T>
   void convert_block(const T* values, size_t n);
-  int32_t* int_room(size_t n);
-  float* float_room(size_t n);
+  template <class S, class T>
+  size_t convert_ints(std::vector<S>& store, const T* values, size_t n);
+  void retire_store();
+  void widen_to_int32();
   void promote_to_float();
 
   std::filesystem::path path_;
   size_t count_;
   size_t filled_ = 0;
   Rescale rescale_;
-  bool file_is_float_;
+  VoxelType file_type_;
   bool is_float_;
-  std::vector<int32_t> ints_;
+  IntStore ints_;
   std::vector<float> floats_;
-  // stage(): which vector holds the file bytes (sized beyond count_ until finish()), and the byte
-  // offset of the first voxel's bytes in it.
-  Staged staged_ = Staged::none;
+  // stage(): the current store holds the file bytes (sized beyond count_ until finish()) from
+  // byte staged_at_ of staged_data_. A store replaced while staged (widened) is kept in retired_
+  // until finish(), since the bytes still being converted live in it.
+  bool store_staged_ = false;
+  unsigned char* staged_data_ = nullptr;
   size_t staged_at_ = 0;
+  IntStore retired_;
   bool defer_ = false;
   std::optional<Error> value_error_;
 };

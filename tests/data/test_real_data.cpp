@@ -78,7 +78,7 @@ void check_label_map(const std::filesystem::path& file, int connectivity = 26,
   const auto totals = mesh_and_check(image, connectivity, method);
   // Part counts per label against a breadth-first search over the voxels.
   int count = 0;
-  const auto& labels = std::get<LabelVolume>(image.volume);
+  const LabelVolume labels = image.labels_int32();
   const auto comp = test::reference_label_components(labels, connectivity, count);
   std::map<int32_t, int64_t> expected;
   std::vector<bool> seen(count, false);

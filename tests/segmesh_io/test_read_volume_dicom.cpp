@@ -13,9 +13,7 @@ namespace {
 using volume_test::expect_error;
 namespace fs = std::filesystem;
 
-const LabelVolume& labels_of(const Image& image) {
-  return std::get<LabelVolume>(image.volume);
-}
+LabelVolume labels_of(const Image& image) { return image.labels_int32(); }
 
 std::vector<fs::path> files_in(const fs::path& dir) {
   std::vector<fs::path> files;
@@ -53,10 +51,9 @@ TEST(ReadVolumeDicom, SlicerHeadCt) {
   // Slices lie at z = 0, 1.5, ..., 138: the origin is the lowest one whatever the file names.
   EXPECT_EQ(grid.origin, (std::array<double, 3>{0, 0, 0}));
   EXPECT_EQ(grid.direction, identity3());
-  const auto [low, high] =
-      std::minmax_element(labels_of(image).voxels.begin(), labels_of(image).voxels.end());
-  EXPECT_EQ(*low, 0);
-  EXPECT_EQ(*high, 3926);
+  const auto [low, high] = std::ranges::minmax(labels_of(image).voxels);
+  EXPECT_EQ(low, 0);
+  EXPECT_EQ(high, 3926);
 }
 
 TEST(ReadVolumeDicom, FileNamesDoNotMatter) {
@@ -83,7 +80,7 @@ TEST(ReadVolumeDicom, FileNamesDoNotMatter) {
   const Image two = read_volume(pair);
   ASSERT_EQ(two.grid().dims[2], 2);
   const size_t slice = 64 * 64;
-  const auto& all = labels_of(original).voxels;
+  const auto all = labels_of(original).voxels;
   EXPECT_TRUE(std::equal(all.begin(), all.begin() + 2 * slice, labels_of(two).voxels.begin()));
 }
 
@@ -131,10 +128,9 @@ TEST(ReadVolumeDicom, RescaledCtInHounsfieldUnits) {
   // The files list z = -126.69, -127.69, -128.69: the lowest is the origin.
   EXPECT_NEAR(grid.origin[2], -128.690002, 1e-5);
   EXPECT_NEAR(grid.origin[0], -235.199997, 1e-5);
-  const auto [low, high] =
-      std::minmax_element(labels_of(image).voxels.begin(), labels_of(image).voxels.end());
-  EXPECT_LE(*low, -1000);  // air after the -1024 intercept
-  EXPECT_GE(*high, 200);   // bone
+  const auto [low, high] = std::ranges::minmax(labels_of(image).voxels);
+  EXPECT_LE(low, -1000);  // air after the -1024 intercept
+  EXPECT_GE(high, 200);   // bone
 
   // Same grid as the dcmqi segmentation made on this CT.
   SEGMESH_DATA_FILE(seg, "dcmqi/liver_spine_seg.nrrd");

@@ -98,7 +98,7 @@ TEST(ReadVolumeDicomRobustness, ForeignFilesAreSkippedWithAWarning) {
   SEGMESH_DATA_FILE(dir, "slicer_ct_head/CTHeadAxialDicom");
   SEGMESH_DATA_FILE(other, "dcmqi/ct-3slice/01.dcm");
   SEGMESH_DATA_FILE(seg, "dcmqi/liver.dcm");
-  const fs::path folder = copy_series(dir, "dicom_foreign");
+  const fs::path folder = copy_series(dir, "dicom_foreign_files");
   volume_test::write_text(folder / "README.txt", "exported by some PACS\n");
   volume_test::write_bytes(folder / "thumbs.db", Bytes(3000, 0xAB));
   volume_test::write_bytes(folder / "DICOMDIR", Bytes(10, 0));  // an empty-looking index
@@ -125,6 +125,28 @@ TEST(ReadVolumeDicomRobustness, FileNamedDicomThatIsNotIsAnError) {
   volume_test::write_text(folder / "CTHead94.dcm", "<html>404 not found</html>");
   expect_error([&] { read_volume(folder); },
                {(folder / "CTHead94.dcm").string() + ": is named like a DICOM file but is not one"});
+}
+
+// GDCM reads ImagePositionPatient as a typed DS attribute and asserts (aborts) when the file
+// labels it otherwise (fuzz_dicom: "CS"). Every element must carry its dictionary VR.
+TEST(ReadVolumeDicomRobustness, ElementWithTheWrongValueRepresentationIsAnError) {
+  SEGMESH_DATA_FILE(dir, "slicer_ct_head/CTHeadAxialDicom");
+  const fs::path folder = copy_series(dir, "dicom_wrong_vr");
+  Bytes bytes = volume_test::read_bytes(folder / "CTHead50.dcm");
+  const std::string from("\x20\x00\x32\x00" "DS", 6);
+  const auto at = std::search(bytes.begin(), bytes.end(), from.begin(), from.end());
+  ASSERT_NE(at, bytes.end());
+  at[4] = 'C';
+  volume_test::write_bytes(folder / "CTHead50.dcm", bytes);
+  expect_error([&] { read_volume(folder); },
+               {(folder / "CTHead50.dcm").string() +
+                ": is a broken DICOM file (element (0020,0032) has the value representation CS "
+                "where the DICOM dictionary gives DS); replace it"});
+  // Every slice of the real series carries its dictionary VRs.
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    EXPECT_EQ(volume_io::check_dicom_file(entry.path()).status, volume_io::DicomFileStatus::image)
+        << entry.path();
+  }
 }
 
 TEST(ReadVolumeDicomRobustness, StructuralCheckOnHandMadeFiles) {

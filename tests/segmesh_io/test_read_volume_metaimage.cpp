@@ -13,9 +13,7 @@ using volume_test::Bytes;
 using volume_test::expect_error;
 namespace fs = std::filesystem;
 
-const LabelVolume& labels_of(const Image& image) {
-  return std::get<LabelVolume>(image.volume);
-}
+LabelVolume labels_of(const Image& image) { return image.labels_int32(); }
 
 // 5x4x3 int16 values i * 7 - 100, rotated 90 degrees about z and mirrored in z.
 const std::string geometry_fields =
@@ -48,7 +46,7 @@ void expect_volume(const Image& image) {
   // +y, axis 1 along -x, axis 2 along -z.
   EXPECT_EQ(grid.direction, (Mat3d{0, -1, 0, 1, 0, 0, 0, 0, -1}));
   EXPECT_TRUE(grid.mirrored());
-  const auto& voxels = labels_of(image).voxels;
+  const auto voxels = labels_of(image).voxels;
   ASSERT_EQ(voxels.size(), 60u);
   for (int i = 0; i < 60; ++i) ASSERT_EQ(voxels[i], i * 7 - 100) << i;
 }

@@ -108,7 +108,7 @@ TEST(ReadVolumeMrc, BigEndianAndIntegerModes) {
   ASSERT_TRUE(image.is_integer());
   EXPECT_EQ(image.grid().spacing, (std::array<double, 3>{1.5, 1.5, 0.75}));
   EXPECT_EQ(image.grid().origin, (std::array<double, 3>{10, 20, 30}));
-  EXPECT_EQ(std::get<LabelVolume>(image.volume).voxels[11], 5);
+  EXPECT_EQ(image.labels_int32().voxels[11], 5);
 }
 
 TEST(ReadVolumeMrcErrors, LyingHeaders) {

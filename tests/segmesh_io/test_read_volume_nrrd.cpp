@@ -13,9 +13,7 @@ using volume_test::Bytes;
 using volume_test::expect_error;
 namespace fs = std::filesystem;
 
-const LabelVolume& labels_of(const Image& image) {
-  return std::get<LabelVolume>(image.volume);
-}
+LabelVolume labels_of(const Image& image) { return image.labels_int32(); }
 
 Bytes header_bytes(const std::string& text) {
   return Bytes(text.begin(), text.end());

@@ -93,14 +93,16 @@ void check_every_layout(const std::string& name, const Bytes& file) {
   }
 }
 
+// Each integer type is stored in the narrowest of uint8, int16, uint16, int32 that holds it (the
+// in-place path widens into those too); rescaled files in int32.
 TEST(ReadVolumeOnePass, EveryTypeAndLayoutReadsLikeTheUncompressedFile) {
-  check_every_layout<LabelVolume>(
+  check_every_layout<Volume<uint8_t>>(
       "uint8", nifti_file(2, 8, voxel_bytes<uint8_t>([](uint32_t r) { return uint8_t(r); })));
-  check_every_layout<LabelVolume>(
+  check_every_layout<Volume<int16_t>>(
       "int8", nifti_file(256, 8, voxel_bytes<int8_t>([](uint32_t r) { return int8_t(r); })));
-  check_every_layout<LabelVolume>(
+  check_every_layout<Volume<int16_t>>(
       "int16", nifti_file(4, 16, voxel_bytes<int16_t>([](uint32_t r) { return int16_t(r); })));
-  check_every_layout<LabelVolume>(
+  check_every_layout<Volume<uint16_t>>(
       "uint16", nifti_file(512, 16, voxel_bytes<uint16_t>([](uint32_t r) { return uint16_t(r); })));
   check_every_layout<LabelVolume>(
       "int32", nifti_file(8, 32, voxel_bytes<int32_t>([](uint32_t r) { return int32_t(r * 977u); })));

@@ -49,7 +49,7 @@ void expect_round_trip(const LabelVolume& volume, const fs::path& path, const st
   }
   for (int i = 0; i < 9; ++i) EXPECT_NEAR(grid.direction[i], volume.grid.direction[i], 1e-5) << i;
   EXPECT_TRUE(grid.mirrored());
-  EXPECT_EQ(std::get<LabelVolume>(image.volume).voxels, volume.voxels);
+  EXPECT_EQ(image.labels_int32().voxels, volume.voxels);
 }
 
 TEST(WriteVolume, RoundTripsEveryFormat) {
