@@ -1,6 +1,8 @@
 // Times segmesh's steps on one volume at a given thread count, best of N, and prints one JSON
-// object: read, components + extraction (MC and DC), two HC iterations, the default smoothing,
-// triangles. bench/compare_peers.sh runs it beside VTK (../shared/tools/peer_mesh.py).
+// object: read, components, extraction by Marching Cubes and by Dual Contouring (every part, not
+// smoothed), two HC iterations, the default smoothing, triangles. Each step is the pipeline's
+// own function (pipeline.hpp). bench/compare_peers.sh runs it beside VTK
+// (../shared/tools/peer_mesh.py).
 //   segmesh_step_timing VOLUME THREADS [REPEATS]
 #include <tbb/global_control.h>
 
@@ -26,17 +28,20 @@ int main(int argc, char** argv) {
   const int threads = std::atoi(argv[2]);
   const int repeats = argc > 3 ? std::atoi(argv[3]) : 5;
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
-  double read = 1e300, mc = 1e300, dc = 1e300, hc = 1e300, smooth = 1e300;
+  double read = 1e300, components = 1e300, mc = 1e300, dc = 1e300, hc = 1e300, smooth = 1e300;
   size_t triangles = 0;
+  // The default options: Marching Cubes then smoothing, so no gradient normals are made.
+  MeshingOptions o;
   for (int r = 0; r < repeats; ++r) {
     auto t = Clock::now();
     const Image image = read_volume(argv[1]);
     read = std::min(read, seconds_since(t));
-    MeshingOptions o;
-    o.smooth = {};
-    PipelineStats s;
-    Scene scene = build_scene(image, o, null_progress(), &s);
-    mc = std::min(mc, (s.components_ms + s.extract_ms) / 1000);
+    t = Clock::now();
+    const PipelineParts parts = find_parts(image, o);
+    components = std::min(components, seconds_since(t));
+    t = Clock::now();
+    Scene scene = extract_parts(image, parts, o);
+    mc = std::min(mc, seconds_since(t));
     triangles = 0;
     for (const Part& p : scene.parts) triangles += p.mesh.triangle_count();
     Scene a = scene;
@@ -46,12 +51,14 @@ int main(int argc, char** argv) {
     t = Clock::now();
     smooth_scene(scene, default_smoothing());
     smooth = std::min(smooth, seconds_since(t));
-    o.method = Method::dual_contouring;
-    build_scene(image, o, null_progress(), &s);
-    dc = std::min(dc, (s.components_ms + s.extract_ms) / 1000);
+    MeshingOptions d = o;
+    d.method = Method::dual_contouring;
+    t = Clock::now();
+    const Scene dual = extract_parts(image, parts, d);
+    dc = std::min(dc, seconds_since(t));
   }
   std::printf(
-      "{\"threads\": %d, \"read_s\": %.4f, \"mc_s\": %.4f, \"dc_s\": %.4f, \"hc2_s\": %.4f, "
-      "\"default_smooth_s\": %.4f, \"triangles\": %zu}\n",
-      threads, read, mc, dc, hc, smooth, triangles);
+      "{\"threads\": %d, \"read_s\": %.4f, \"components_s\": %.4f, \"mc_s\": %.4f, \"dc_s\": %.4f, "
+      "\"hc2_s\": %.4f, \"default_smooth_s\": %.4f, \"triangles\": %zu}\n",
+      threads, read, components, mc, dc, hc, smooth, triangles);
 }
