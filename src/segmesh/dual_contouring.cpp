@@ -6,8 +6,12 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <memory>
 #include <optional>
+#include <stdexcept>
+#include <type_traits>
 #include <vector>
 
 #include "segmesh/dual_contouring_table.hpp"
@@ -104,6 +108,104 @@ bool triangulable(const Polygon& p) {
   return triangulate(p, [](int, int, int) { return 1.0; }, unused);
 }
 
+// One non-trivial cell in its row's list: x, Marching Cubes case, first sheet vertex.
+struct RowCell {
+  int32_t x = 0;
+  uint8_t cs = 0;
+  uint32_t first_vertex = 0;
+};
+
+// The Hermite data of a cell's cut edges, relative to the cell: crossing in millimetres from the
+// cell's first corner (before the grid's rotation), unit outward normal in the same frame.
+struct CellHermite {
+  std::array<Vec3d, 12> point;
+  std::array<Vec3d, 12> normal;
+};
+
+// The sheet vertices of one cell, relative to it: index-space offset from the cell's first corner
+// and the world unit normal, per piece. What a binary cell's neighbourhood decides completely.
+struct CellVertices {
+  std::array<Vec3d, kDcMaxPieces> offset;
+  std::array<Vec3f, kDcMaxPieces> normal;
+};
+
+// Sheet vertices of binary cells by their 4 x 4 x 4 neighbourhood (the values every gradient of
+// the cell's corners reads, central or Sobel). The QEF of a cell of a 0/1 field is a function of
+// its neighbourhood alone, and a surface has few distinct neighbourhoods (about 27 000 among the
+// 390 000 surface cells of the phantom, 22 000 among 2.6 million in make_big.py's volume), so each
+// is solved once. A fixed-size open-addressing table shared by the tasks: a slot is claimed by
+// compare-and-swap of its key and published once its value is written; a task that finds a slot
+// still being written, or no free slot in reach, solves the cell itself. The value is what the
+// solve gives, whoever computes it, so the output does not depend on the threads. Cells with more
+// than two sheets (rare) are always solved.
+class NeighbourhoodCache {
+ public:
+  static constexpr int kPieces = 2;
+  struct Entry {
+    std::array<Vec3d, kPieces> offset;
+    std::array<Vec3f, kPieces> normal;
+  };
+
+  explicit NeighbourhoodCache(size_t cells) {
+    size_t capacity = 1024;
+    while (capacity < 2 * cells && capacity < (size_t{1} << 17)) capacity *= 2;
+    slots_ = std::make_unique<Slot[]>(capacity);
+    entries_ = std::make_unique_for_overwrite<Entry[]>(capacity);
+    mask_ = capacity - 1;
+  }
+
+  // The cell's vertices: cached, or solve() (cached when there is room). key != 0.
+  template <class Solve>
+  void get(uint64_t key, int pieces, CellVertices& out, Solve&& solve) {
+    if (pieces > kPieces) return solve(out);
+    size_t h = hash(key) & mask_;
+    for (int probe = 0; probe < 32; ++probe, h = (h + 1) & mask_) {
+      Slot& slot = slots_[h];
+      uint64_t k = slot.key.load(std::memory_order_acquire);
+      if (k == 0) {
+        if (slot.key.compare_exchange_strong(k, key, std::memory_order_acq_rel)) {
+          solve(out);
+          Entry& e = entries_[h];
+          for (int p = 0; p < pieces; ++p) e.offset[p] = out.offset[p], e.normal[p] = out.normal[p];
+          slot.ready.store(1, std::memory_order_release);
+          return;
+        }
+        // Another task claimed the slot first; k now holds its key.
+      }
+      if (k == key) {
+        if (slot.ready.load(std::memory_order_acquire) == 0) return solve(out);
+        const Entry& e = entries_[h];
+        for (int p = 0; p < pieces; ++p) out.offset[p] = e.offset[p], out.normal[p] = e.normal[p];
+        return;
+      }
+    }
+    solve(out);
+  }
+
+ private:
+  struct Slot {
+    std::atomic<uint64_t> key{0};
+    std::atomic<uint32_t> ready{0};
+  };
+  static size_t hash(uint64_t k) {
+    k ^= k >> 33;
+    k *= 0xff51afd7ed558ccdULL;
+    k ^= k >> 33;
+    return static_cast<size_t>(k);
+  }
+  std::unique_ptr<Slot[]> slots_;
+  std::unique_ptr<Entry[]> entries_;
+  size_t mask_ = 0;
+};
+
+// Dual Contouring row by row, in the manner of marching_cubes.cpp. Cells live in rows (j, k),
+// index k * cy + j; each row's non-trivial cells form a list (x, case, first sheet vertex).
+// Vertex ids follow the rows, the cells of a row in x order and the sheets of a cell in order;
+// every cut edge's polygon is emitted by the cell that has the edge as its edge 3, 7 or 11 (the
+// cell at the edge's lower corner on the two other axes), so the triangles follow the rows too.
+// Passes, each parallel over rows: count cells and sheets; fill the lists; sheet vertices (QEF);
+// count polygons; emit polygons. Prefix sums between them; the output is the same for any thread
+// count.
 template <class T>
 class Extractor {
  public:
@@ -122,165 +224,89 @@ class Extractor {
   TriMesh run() {
     TriMesh mesh;
     if (nx_ < 2 || ny_ < 2 || nz_ < 2) return mesh;
-    classify_cells();
-    count();
-    const uint64_t vertices = slab_vertex_first_.back() + plane_extra_first_.back();
+    scan_.emplace(f_, InsideTest<T>(o_.iso), progress_);
+    binary_ = is_binary();
+    list_cells();
+    const uint64_t sheets = vertex_first_.back();
+    count_polygons();
+    const uint64_t vertices = sheets + extra_first_.back();
     if (vertices > std::numeric_limits<uint32_t>::max()) {
       throw Error("dual contouring: the surface has more than 4 billion vertices; "
                   "crop the volume or select fewer labels");
     }
     mesh.positions.resize(vertices);
     mesh.normals.resize(vertices);
-    mesh.indices.resize(3 * plane_triangle_first_.back());
-    if (o_.tolerance_mm > 0) qefs_.resize(slab_vertex_first_.back());
+    mesh.indices.resize(3 * triangle_first_.back());
+    if (o_.tolerance_mm > 0) qefs_.resize(sheets);
     emit_vertices(mesh);
-    emit_triangles(mesh);
+    emit_polygons(mesh);
     if (o_.tolerance_mm > 0) {
       DcCells cells{{cx_, cy_, cz_}, surface_cells(), &qefs_,
-                    [this](int64_t i, int64_t j, int64_t k) { return inside(i, j, k); }};
+                    [this](int64_t i, int64_t j, int64_t k) { return scan_->inside(i, j, k); }};
       mesh = simplify_dual_contour(std::move(mesh), cells, f_.grid, o_);
     }
     return mesh;
   }
 
  private:
-  bool inside(int64_t i, int64_t j, int64_t k) const { return scan_->inside(i, j, k); }
-  size_t cell_row(int64_t j, int64_t k) const { return static_cast<size_t>(k * cy_ + j); }
-  // The case of cell (i, j, k): stored only inside each row's trimmed range, 0 elsewhere (no
-  // sheets, like 255).
-  uint8_t cell_case(int64_t i, int64_t j, int64_t k) const {
-    const size_t row = cell_row(j, k);
-    const GridRange& r = case_range_[row];
-    return i >= r.lo && i < r.hi ? cases_[case_offset_[row] + size_t(i - r.lo)] : uint8_t{0};
+  int64_t rows() const { return cy_ * cz_; }
+  size_t row_index(int64_t j, int64_t k) const { return static_cast<size_t>(k * cy_ + j); }
+
+  // A 0/1 field contoured between 0 and 1 (a part's mask), whose cells the neighbourhood cache
+  // may serve. Not with simplification, which needs every sheet's QEF.
+  bool is_binary() const {
+    if constexpr (!std::is_same_v<T, uint8_t>) {
+      return false;
+    } else {
+      if (!(o_.iso > 0 && o_.iso < 1) || o_.tolerance_mm > 0) return false;
+      uint8_t any_above = 0;
+      for (uint8_t v : f_.voxels) any_above |= v & 0xfe;
+      return any_above == 0;
+    }
   }
 
-  // Cases of the cells that may hold surface (row trimming), stored row by row for the trimmed
-  // ranges only: no volume-sized array.
-  void classify_cells() {
-    scan_.emplace(f_, InsideTest<T>(o_.iso), progress_);
-    const size_t rows = static_cast<size_t>(cy_ * cz_);
-    case_range_.resize(rows);
-    case_offset_.assign(rows + 1, 0);
-    for (int64_t k = 0; k < cz_; ++k)
-      for (int64_t j = 0; j < cy_; ++j) case_range_[cell_row(j, k)] = scan_->cell_range(j, k);
-    for (size_t r = 0; r < rows; ++r) {
-      const GridRange& g = case_range_[r];
-      case_offset_[r + 1] = case_offset_[r] + (g.empty() ? 0 : size_t(g.hi - g.lo));
-    }
-    cases_.assign(case_offset_.back(), 0);
-    tbb::parallel_for(tbb::blocked_range<int64_t>(0, cz_), [&](const auto& r) {
+  // Pass 1 and 2: the non-trivial cells of every row, with their first sheet vertex.
+  void list_cells() {
+    const size_t n = static_cast<size_t>(rows());
+    std::vector<uint64_t> cells(n, 0), sheets(n, 0);
+    tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 64), [&](const auto& range) {
       throw_if_cancelled(progress_);
-      for (int64_t k = r.begin(); k < r.end(); ++k)
-        for (int64_t j = 0; j < cy_; ++j) {
-          const size_t row = cell_row(j, k);
-          const int64_t lo = case_range_[row].lo;
-          scan_->cells(j, k, [&](int64_t i, int cs) {
-            cases_[case_offset_[row] + size_t(i - lo)] = uint8_t(cs);
-          });
-        }
-    });
-  }
-
-  // Calls visit(i, DcCase) for the cells of row j of slab k that may hold sheets.
-  template <class Visit>
-  void for_row_cells(int64_t j, int64_t k, Visit&& visit) const {
-    const size_t row = cell_row(j, k);
-    const GridRange& range = case_range_[row];
-    const uint8_t* cs = cases_.data() + case_offset_[row];
-    for (int64_t i = range.lo; i < range.hi; ++i) visit(i, table_.cases[cs[i - range.lo]]);
-  }
-
-  // The polygon of the sheets around an edge; n = 0 when a cell around it lies outside the field
-  // (the field's outer layer must be background, so such an edge is never cut).
-  // `first_vertex(cell index)` gives the first vertex id of a cell.
-  template <class FirstVertex>
-  Polygon polygon(int axis, int64_t i, int64_t j, int64_t k, FirstVertex&& first_vertex,
-                  bool ids_needed = true) const {
-    Polygon p;
-    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-    const int64_t cells[3] = {cx_, cy_, cz_};
-    for (int q = 0; q < 4; ++q) {
-      int64_t c[3] = {i, j, k};
-      c[u] += kQuadrantDu[q];
-      c[v] += kQuadrantDv[q];
-      for (int a = 0; a < 3; ++a) {
-        if (c[a] < 0 || c[a] >= cells[a]) return Polygon{};
-      }
-      const size_t cell = static_cast<size_t>((c[2] * cy_ + c[1]) * cx_ + c[0]);
-      const DcCase& dc = table_.cases[cell_case(c[0], c[1], c[2])];
-      const int e = local_edge(axis, -kQuadrantDu[q], -kQuadrantDv[q]);
-      const int count = dc.around_count[e];
-      const uint32_t first = first_vertex(cell, c[2]);
-      for (int t = 0; t < count; ++t) {
-        const int piece = dc.around[e][kQuadrantForward[q] ? t : count - 1 - t];
-        p.vertex[p.n] = first + static_cast<uint32_t>(piece);
-        p.quadrant[p.n++] = q;
-      }
-    }
-    if (!ids_needed) return p;  // counting: the size and cells are all that matter
-    // Counter-clockwise around +axis faces +axis: right when the inside is at the edge's start.
-    // A mirrored grid flips every winding once more.
-    if (inside(i, j, k) == f_.grid.mirrored()) {
-      std::reverse(p.vertex.begin(), p.vertex.begin() + p.n);
-      std::reverse(p.quadrant.begin(), p.quadrant.begin() + p.n);
-    }
-    return p;
-  }
-
-  // Triangles (and centroid vertices, 0 or 1) the polygon of an edge becomes.
-  static std::pair<uint64_t, uint64_t> polygon_cost(const Polygon& p) {
-    if (p.n == 0) return {0, 0};
-    if (p.n == 4) return {2, 0};
-    if (triangulable(p)) return {uint64_t(p.n - 2), 0};
-    return {uint64_t(p.n), 1};
-  }
-
-  void count() {
-    std::vector<uint64_t> slab_vertices(cz_, 0), triangles(nz_, 0), extra(nz_, 0), edges(nz_, 0);
-    tbb::parallel_for(tbb::blocked_range<int64_t>(0, nz_), [&](const auto& r) {
-      throw_if_cancelled(progress_);
-      for (int64_t k = r.begin(); k < r.end(); ++k) {
-        if (k < cz_) {
-          uint64_t n = 0;
-          for (int64_t j = 0; j < cy_; ++j)
-            for_row_cells(j, k, [&](int64_t, const DcCase& dc) { n += dc.piece_count; });
-          slab_vertices[k] = n;
-        }
-        // Polygon sizes depend on the cells' cases only; the vertex ids do not matter here.
-        uint64_t nt = 0, ne = 0;
-        scan_->cut_edges(k, [&](int axis, int64_t i, int64_t j) {
-          const auto [t, e] = polygon_cost(polygon(axis, i, j, k, [](size_t, int64_t) { return 0u; },
-                                                   /*ids_needed=*/false));
-          nt += t;
-          ne += e;
-          ++edges[k];
+      for (int64_t r = range.begin(); r < range.end(); ++r) {
+        const int64_t j = r % cy_, k = r / cy_;
+        uint64_t c = 0, p = 0;
+        scan_->cells(j, k, [&](int64_t, int cs) {
+          ++c;
+          p += table_.cases[cs].piece_count;
         });
-        triangles[k] = nt;
-        extra[k] = ne;
+        cells[size_t(r)] = c;
+        sheets[size_t(r)] = p;
       }
     });
-    slab_vertex_first_.assign(cz_ + 1, 0);
-    for (int64_t k = 0; k < cz_; ++k) slab_vertex_first_[k + 1] = slab_vertex_first_[k] + slab_vertices[k];
-    plane_triangle_first_.assign(nz_ + 1, 0);
-    plane_extra_first_.assign(nz_ + 1, 0);
-    edge_first_.assign(nz_ + 1, 0);
-    for (int64_t k = 0; k < nz_; ++k) edge_first_[k + 1] = edge_first_[k] + edges[k];
-    for (int64_t k = 0; k < nz_; ++k) {
-      plane_triangle_first_[k + 1] = plane_triangle_first_[k] + triangles[k];
-      plane_extra_first_[k + 1] = plane_extra_first_[k] + extra[k];
+    cell_first_.assign(n + 1, 0);
+    vertex_first_.assign(n + 1, 0);
+    for (size_t r = 0; r < n; ++r) {
+      cell_first_[r + 1] = cell_first_[r] + cells[r];
+      vertex_first_[r + 1] = vertex_first_[r] + sheets[r];
     }
+    cells_.resize(cell_first_.back());
+    tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 64), [&](const auto& range) {
+      throw_if_cancelled(progress_);
+      for (int64_t r = range.begin(); r < range.end(); ++r) {
+        RowCell* out = cells_.data() + cell_first_[size_t(r)];
+        uint32_t id = static_cast<uint32_t>(vertex_first_[size_t(r)]);
+        scan_->cells(r % cy_, r / cy_, [&](int64_t i, int cs) {
+          *out++ = {static_cast<int32_t>(i), static_cast<uint8_t>(cs), id};
+          id += table_.cases[cs].piece_count;
+        });
+      }
+    });
   }
 
-  // First vertex id of every cell of slab k that may hold sheets (no other cell is ever looked up).
-  void number_slab(int64_t k, std::vector<uint32_t>& first) const {
-    if (k < 0 || k >= cz_) return;
-    uint32_t id = static_cast<uint32_t>(slab_vertex_first_[k]);
-    for (int64_t j = 0; j < cy_; ++j) {
-      for_row_cells(j, k, [&](int64_t i, const DcCase& dc) {
-        first[j * cx_ + i] = id;
-        id += dc.piece_count;
-      });
-    }
+  const RowCell* row_begin(int64_t j, int64_t k) const {
+    return cells_.data() + cell_first_[row_index(j, k)];
+  }
+  const RowCell* row_end(int64_t j, int64_t k) const {
+    return cells_.data() + cell_first_[row_index(j, k) + 1];
   }
 
   // Keeps a QEF solution x inside its cell, shrunk by kDcCellMargin so that vertices of
@@ -302,115 +328,258 @@ class Extractor {
     return keep_in_box(x, m, {lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]});
   }
 
-  // The QEF vertex of one sheet of cell (i, j, k).
-  // The Hermite data of every sign-changing edge, once (a cut edge belongs to up to four cells),
-  // in the order TrimmedScan::number_plane gives the edges ids.
-  struct Hermite {
-    Vec3f point;   // index space
-    Vec3f normal;  // unit, outwards, in physical space before the grid's rotation
+  // The Hermite data of the cut edges of cell (i, j, k) with case cs.
+  CellHermite cell_hermite(int64_t i, int64_t j, int64_t k, int cs) const {
+    const auto& s = f_.grid.spacing;
+    CellHermite h;
+    for (int e = 0; e < 12; ++e) {
+      const int c0 = kMcEdgeCorner[e][0];
+      if ((cs >> c0 & 1) == (cs >> kMcEdgeCorner[e][1] & 1)) continue;
+      const int axis = e / 4;
+      const int64_t gi = i + (c0 & 1), gj = j + (c0 >> 1 & 1), gk = k + (c0 >> 2);
+      const EdgeCrossing c = edge_crossing(f_, gi, gj, gk, axis, o_.iso, o_.normals);
+      h.point[e] = {(c.index_point.x - double(i)) * s[0], (c.index_point.y - double(j)) * s[1],
+                    (c.index_point.z - double(k)) * s[2]};
+      Vec3d n{-c.index_gradient.x / s[0], -c.index_gradient.y / s[1], -c.index_gradient.z / s[2]};
+      double len = norm(n);
+      if (!(len > 0)) {  // no gradient: the edge itself, pointing from inside to outside
+        n = {double(axis == 0), double(axis == 1), double(axis == 2)};
+        if (!(cs >> c0 & 1)) n = -1.0 * n;
+        len = 1;
+      }
+      h.normal[e] = (1.0 / len) * n;
+    }
+    return h;
+  }
+
+  // The QEF vertices of every sheet of a cell, relative to the cell; the QEFs into `qefs` when
+  // given (simplification).
+  CellVertices solve_cell(int64_t i, int64_t j, int64_t k, int cs, Qef* qefs) const {
+    const auto& s = f_.grid.spacing;
+    const DcCase& dc = table_.cases[cs];
+    const CellHermite h = cell_hermite(i, j, k, cs);
+    CellVertices out;
+    for (int piece = 0; piece < dc.piece_count; ++piece) {
+      Qef qef;
+      Vec3d normal_sum{};
+      Vec3d lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+      for (int t = 0; t < dc.piece_edge_count[piece]; ++t) {
+        const int e = dc.piece_edges[piece][t];
+        const Vec3d p = h.point[e], n = h.normal[e];
+        qef.add(p, n);
+        normal_sum = normal_sum + n;
+        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+      }
+      // A cell crossed by several sheets is a configuration of single voxels touching at an edge
+      // or corner, where tangent planes say nothing about a feature and the sheets' QEF minima
+      // may coincide (the three quads of the tube all meet at the cell centre): each sheet takes
+      // its mass point, which keeps the sheets apart.
+      const Vec3d target = dc.piece_count > 1 ? qef.mass_point() : solve_qef(qef, o_.svd_eps).position;
+      const Vec3d p = keep_in_cell(target, qef.mass_point(), lo, hi, dc.piece_count > 1);
+      out.offset[piece] = {p.x / s[0], p.y / s[1], p.z / s[2]};
+      const Vec3d wn = f_.grid.direction * normal_sum;
+      const double wl = norm(wn);
+      out.normal[piece] = wl > 0 ? to_float((1.0 / wl) * wn) : Vec3f{0, 0, 1};
+      if (qefs) qefs[piece] = qef;
+    }
+    return out;
+  }
+
+  // The 4 x 4 x 4 grid points around cell (i, j, k) (offsets -1 .. 2), bit (x + 4 y + 16 z) set
+  // when inside; coordinates clamped to the field as the gradients clamp them. Never 0 for a
+  // non-trivial cell.
+  uint64_t neighbourhood(int64_t i, int64_t j, int64_t k) const {
+    uint64_t key = 0;
+    const bool interior = i >= 1 && j >= 1 && k >= 1 && i + 2 < nx_ && j + 2 < ny_ && k + 2 < nz_;
+    for (int z = 0; z < 4; ++z) {
+      const int64_t gk = std::clamp<int64_t>(k + z - 1, 0, nz_ - 1);
+      for (int y = 0; y < 4; ++y) {
+        const int64_t gj = std::clamp<int64_t>(j + y - 1, 0, ny_ - 1);
+        const T* row = f_.voxels.data() + static_cast<size_t>((gk * ny_ + gj) * nx_);
+        uint64_t bits = 0;
+        if (interior) {
+          // Four 0/1 bytes to four bits: the multiply moves byte b's bit to bit 21 + b.
+          uint32_t w;
+          std::memcpy(&w, row + i - 1, 4);
+          bits = (uint64_t{w} * 0x204081u) >> 21 & 0xf;
+        } else {
+          for (int x = 0; x < 4; ++x) {
+            bits |= uint64_t(row[std::clamp<int64_t>(i + x - 1, 0, nx_ - 1)] != 0) << x;
+          }
+        }
+        key |= bits << (4 * y + 16 * z);
+      }
+    }
+    return key;
+  }
+
+  // Pass 3: the sheet vertices.
+  void emit_vertices(TriMesh& mesh) {
+    std::atomic<int64_t> rows_done{0};
+    std::optional<NeighbourhoodCache> cache;
+    if (binary_) cache.emplace(cells_.size());
+    tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 16), [&](const auto& range) {
+      throw_if_cancelled(progress_);
+      for (int64_t r = range.begin(); r < range.end(); ++r) {
+        const int64_t j = r % cy_, k = r / cy_;
+        for (const RowCell* c = row_begin(j, k); c != row_end(j, k); ++c) {
+          const DcCase& dc = table_.cases[c->cs];
+          if (dc.piece_count == 0) continue;
+          CellVertices v;
+          if (cache) {
+            cache->get(neighbourhood(c->x, j, k), dc.piece_count, v,
+                       [&](CellVertices& out) { out = solve_cell(c->x, j, k, c->cs, nullptr); });
+          } else {
+            v = solve_cell(c->x, j, k, c->cs, qefs_.empty() ? nullptr : &qefs_[c->first_vertex]);
+          }
+          for (int piece = 0; piece < dc.piece_count; ++piece) {
+            const Vec3d& d = v.offset[piece];
+            mesh.positions[c->first_vertex + piece] =
+                to_float(f_.grid.to_world({double(c->x) + d.x, double(j) + d.y, double(k) + d.z}));
+            mesh.normals[c->first_vertex + piece] = v.normal[piece];
+          }
+        }
+      }
+      progress_.update(0.5 * double(rows_done += range.size()) / double(rows()));
+    });
+  }
+
+  // The cells at x and x + 1 of one row's list, found by a cursor that only moves forwards.
+  class RowCursor {
+   public:
+    RowCursor(const RowCell* begin, const RowCell* end) : at_(begin), end_(end) {}
+    // The cell at x (x never decreases between calls), or nullptr.
+    const RowCell* at(int64_t x) {
+      while (at_ != end_ && at_->x < x) ++at_;
+      return at_ != end_ && at_->x == x ? at_ : nullptr;
+    }
+    const RowCell* next_after(const RowCell* c, int64_t x) const {  // the cell at x + 1, or nullptr
+      if (c == nullptr) {
+        const RowCell* p = at_;
+        while (p != end_ && p->x <= x) ++p;
+        return p != end_ && p->x == x + 1 ? p : nullptr;
+      }
+      return c + 1 != end_ && c[1].x == x + 1 ? c + 1 : nullptr;
+    }
+
+   private:
+    const RowCell* at_;
+    const RowCell* end_;
   };
 
-  void compute_hermite() {
-    hermite_.resize(edge_first_.back());
-    const auto& s = f_.grid.spacing;
-    tbb::parallel_for(tbb::blocked_range<int64_t>(0, nz_), [&](const auto& r) {
-      throw_if_cancelled(progress_);
-      for (int64_t k = r.begin(); k < r.end(); ++k) {
-        size_t id = edge_first_[k];
-        scan_->cut_edges(k, [&](int axis, int64_t i, int64_t j) {
-          const EdgeCrossing c = edge_crossing(f_, i, j, k, axis, o_.iso, o_.normals);
-          Vec3d n{-c.index_gradient.x / s[0], -c.index_gradient.y / s[1], -c.index_gradient.z / s[2]};
-          double len = norm(n);
-          if (!(len > 0)) {  // no gradient: the edge itself, pointing from inside to outside
-            n = {double(axis == 0), double(axis == 1), double(axis == 2)};
-            if (!inside(i, j, k)) n = -1.0 * n;
-            len = 1;
-          }
-          hermite_[id++] = {to_float(c.index_point), to_float((1.0 / len) * n)};
-        });
+  // Calls visit(axis, quadrant cells, inside at the edge's start) for every cut edge the cells of
+  // row (j, k) own: edge 3 (along x), 7 (along y) and 11 (along z) of each cell. The quadrant
+  // cells are the four cells around the edge in polygon() order (kQuadrantDu / kQuadrantDv).
+  template <class Visit>
+  void owned_edges(int64_t j, int64_t k, Visit&& visit) const {
+    const bool up = j + 1 < cy_, far = k + 1 < cz_;
+    RowCursor r10(up ? row_begin(j + 1, k) : nullptr, up ? row_end(j + 1, k) : nullptr);
+    RowCursor r01(far ? row_begin(j, k + 1) : nullptr, far ? row_end(j, k + 1) : nullptr);
+    RowCursor r11(up && far ? row_begin(j + 1, k + 1) : nullptr, up && far ? row_end(j + 1, k + 1) : nullptr);
+    const RowCell* end = row_end(j, k);
+    for (const RowCell* c = row_begin(j, k); c != end; ++c) {
+      const int cs = c->cs;
+      const int64_t x = c->x;
+      const bool cut3 = (cs >> 6 & 1) != (cs >> 7 & 1);   // corners 6, 7
+      const bool cut7 = (cs >> 5 & 1) != (cs >> 7 & 1);   // corners 5, 7
+      const bool cut11 = (cs >> 3 & 1) != (cs >> 7 & 1);  // corners 3, 7
+      if (!cut3 && !cut7 && !cut11) continue;
+      const RowCell* a10 = r10.at(x);
+      const RowCell* a01 = r01.at(x);
+      const RowCell* a11 = r11.at(x);
+      const RowCell* right = c + 1 != end && c[1].x == x + 1 ? c + 1 : nullptr;
+      if (cut3) visit(0, std::array<const RowCell*, 4>{a10, a11, a01, c}, (cs >> 6 & 1) != 0);
+      if (cut7) {
+        visit(1, std::array<const RowCell*, 4>{a01, r01.next_after(a01, x), right, c},
+              (cs >> 5 & 1) != 0);
       }
-    });
-  }
-
-  // The QEF vertex of one sheet of cell (i, j, k); edge_id(e) gives the id of cell edge e.
-  template <class EdgeId>
-  void emit_piece(int64_t i, int64_t j, int64_t k, const DcCase& dc, int piece, uint32_t id,
-                  EdgeId&& edge_id, TriMesh& mesh) {
-    const auto& s = f_.grid.spacing;
-    Qef qef;
-    Vec3d normal_sum{};
-    Vec3d lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-    for (int t = 0; t < dc.piece_edge_count[piece]; ++t) {
-      const Hermite& h = hermite_[edge_id(dc.piece_edges[piece][t])];
-      // Physical millimetres relative to the cell's first corner, before the grid's rotation:
-      // distances there are true distances, and the numbers stay small.
-      const Vec3d p{(h.point.x - double(i)) * s[0], (h.point.y - double(j)) * s[1],
-                    (h.point.z - double(k)) * s[2]};
-      const Vec3d n = to_double(h.normal);
-      qef.add(p, n);
-      normal_sum = normal_sum + n;
-      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+      if (cut11) {
+        visit(2, std::array<const RowCell*, 4>{right, r10.next_after(a10, x), a10, c},
+              (cs >> 3 & 1) != 0);
+      }
     }
-    // A cell crossed by several sheets is a configuration of single voxels touching at an edge or
-    // corner, where tangent planes say nothing about a feature and the sheets' QEF minima may
-    // coincide (the three quads of the tube all meet at the cell centre): each sheet takes its
-    // mass point, which keeps the sheets apart.
-    const Vec3d target = dc.piece_count > 1 ? qef.mass_point() : solve_qef(qef, o_.svd_eps).position;
-    const Vec3d p = keep_in_cell(target, qef.mass_point(), lo, hi, dc.piece_count > 1);
-    mesh.positions[id] = to_float(f_.grid.to_world({i + p.x / s[0], j + p.y / s[1], k + p.z / s[2]}));
-    const Vec3d wn = f_.grid.direction * normal_sum;
-    const double wl = norm(wn);
-    mesh.normals[id] = wl > 0 ? to_float((1.0 / wl) * wn) : Vec3f{0, 0, 1};
-    if (!qefs_.empty()) qefs_[id] = qef;
   }
 
-  void emit_vertices(TriMesh& mesh) {
-    compute_hermite();
-    const size_t plane = static_cast<size_t>(nx_ * ny_);
-    tbb::parallel_for(tbb::blocked_range<int64_t>(0, cz_, 16), [&](const auto& r) {
-      throw_if_cancelled(progress_);
-      PlaneEdgeIds lo(plane), hi(plane);
-      auto no_op = [](int, int64_t, int64_t, uint32_t) {};
-      scan_->number_plane(r.begin(), uint32_t(edge_first_[r.begin()]), lo, no_op);
-      for (int64_t k = r.begin(); k < r.end(); ++k) {
-        scan_->number_plane(k + 1, uint32_t(edge_first_[k + 1]), hi, no_op);
-        uint32_t id = static_cast<uint32_t>(slab_vertex_first_[k]);
-        for (int64_t j = 0; j < cy_; ++j) {
-          for_row_cells(j, k, [&](int64_t i, const DcCase& dc) {
-            auto edge_id = [&](int e) { return cell_edge_id(lo, hi, e, i, j, nx_); };
-            for (int piece = 0; piece < dc.piece_count; ++piece) {
-              emit_piece(i, j, k, dc, piece, id++, edge_id, mesh);
-            }
-          });
-        }
-        std::swap(lo, hi);
+  // The polygon of the sheets around an edge along `axis` from its four cells (all non-trivial,
+  // as every cell around a cut edge is), wound counter-clockwise seen from outside.
+  Polygon polygon(int axis, const std::array<const RowCell*, 4>& quadrant, bool inside_at_start) const {
+    Polygon p;
+    for (int q = 0; q < 4; ++q) {
+      const RowCell* cell = quadrant[q];
+      if (cell == nullptr) throw std::logic_error("dual contouring: a cut edge without its four cells");
+      const DcCase& dc = table_.cases[cell->cs];
+      const int e = local_edge(axis, -kQuadrantDu[q], -kQuadrantDv[q]);
+      const int count = dc.around_count[e];
+      for (int t = 0; t < count; ++t) {
+        const int piece = dc.around[e][kQuadrantForward[q] ? t : count - 1 - t];
+        p.vertex[p.n] = cell->first_vertex + static_cast<uint32_t>(piece);
+        p.quadrant[p.n++] = q;
       }
-      progress_.update(0.5 * double(r.end()) / double(cz_));
-    });
-    hermite_ = {};
+    }
+    // Counter-clockwise around +axis faces +axis: right when the inside is at the edge's start.
+    // A mirrored grid flips every winding once more.
+    if (inside_at_start == f_.grid.mirrored()) {
+      std::reverse(p.vertex.begin(), p.vertex.begin() + p.n);
+      std::reverse(p.quadrant.begin(), p.quadrant.begin() + p.n);
+    }
+    return p;
   }
 
-  void emit_triangles(TriMesh& mesh) {
-    const size_t slab = static_cast<size_t>(cx_ * cy_);
-    tbb::parallel_for(tbb::blocked_range<int64_t>(0, nz_, 4), [&](const auto& r) {
+  // Triangles (and centroid vertices, 0 or 1) the polygon of an edge becomes.
+  static std::pair<uint64_t, uint64_t> polygon_cost(const Polygon& p) {
+    if (p.n == 4) return {2, 0};
+    if (triangulable(p)) return {uint64_t(p.n - 2), 0};
+    return {uint64_t(p.n), 1};
+  }
+
+  // Pass 4: triangles and centroid vertices per row.
+  void count_polygons() {
+    const size_t n = static_cast<size_t>(rows());
+    std::vector<uint64_t> triangles(n, 0), extra(n, 0);
+    tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 64), [&](const auto& range) {
       throw_if_cancelled(progress_);
-      std::vector<uint32_t> below(slab), above(slab);  // slabs k - 1 and k
-      number_slab(r.begin() - 1, below);
-      number_slab(r.begin(), above);
+      for (int64_t r = range.begin(); r < range.end(); ++r) {
+        uint64_t nt = 0, ne = 0;
+        owned_edges(r % cy_, r / cy_, [&](int axis, const auto& quadrant, bool in) {
+          int size = 0;
+          for (int q = 0; q < 4; ++q) {
+            if (quadrant[q] == nullptr) throw std::logic_error("dual contouring: a cut edge without its four cells");
+            size += table_.cases[quadrant[q]->cs].around_count[local_edge(axis, -kQuadrantDu[q], -kQuadrantDv[q])];
+          }
+          if (size == 4) {
+            nt += 2;
+            return;
+          }
+          const auto [t, e] = polygon_cost(polygon(axis, quadrant, in));
+          nt += t;
+          ne += e;
+        });
+        triangles[size_t(r)] = nt;
+        extra[size_t(r)] = ne;
+      }
+    });
+    triangle_first_.assign(n + 1, 0);
+    extra_first_.assign(n + 1, 0);
+    for (size_t r = 0; r < n; ++r) {
+      triangle_first_[r + 1] = triangle_first_[r] + triangles[r];
+      extra_first_[r + 1] = extra_first_[r] + extra[r];
+    }
+  }
+
+  // Pass 5: the polygons, split into triangles.
+  void emit_polygons(TriMesh& mesh) {
+    std::atomic<int64_t> rows_done{0};
+    const uint64_t sheets = vertex_first_.back();
+    tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 64), [&](const auto& range) {
+      throw_if_cancelled(progress_);
       std::vector<std::array<int, 3>> tris;
-      for (int64_t k = r.begin(); k < r.end(); ++k) {
-        uint32_t* out = mesh.indices.data() + 3 * plane_triangle_first_[k];
-        uint32_t extra = static_cast<uint32_t>(slab_vertex_first_.back() + plane_extra_first_[k]);
-        auto first_vertex = [&](size_t cell, int64_t ck) -> uint32_t {
-          const size_t in_slab = cell - static_cast<size_t>(ck) * slab;
-          return ck == k ? above[in_slab] : below[in_slab];
-        };
-        scan_->cut_edges(k, [&](int axis, int64_t i, int64_t j) {
-          const Polygon p = polygon(axis, i, j, k, first_vertex);
-          if (p.n == 0) return;
+      for (int64_t r = range.begin(); r < range.end(); ++r) {
+        uint32_t* out = mesh.indices.data() + 3 * triangle_first_[size_t(r)];
+        uint32_t extra = static_cast<uint32_t>(sheets + extra_first_[size_t(r)]);
+        owned_edges(r % cy_, r / cy_, [&](int axis, const auto& quadrant, bool in) {
+          const Polygon p = polygon(axis, quadrant, in);
           auto pos = [&](int a) { return to_double(mesh.positions[p.vertex[a]]); };
-          auto rho = [&](int a, int b, int c) { return radii_ratio(pos(a), pos(b), pos(c)); };
           if (p.n == 4) {
             // The diagonal that gives the better pair of triangles (the higher worst radii
             // ratio), from the six edge lengths of the quad.
@@ -424,46 +593,44 @@ class Extractor {
             const uint32_t a = p.vertex[q[0]], b = p.vertex[q[1]], c = p.vertex[q[2]], d = p.vertex[q[3]];
             out[0] = a, out[1] = b, out[2] = c, out[3] = a, out[4] = c, out[5] = d;
             out += 6;
-          } else if (triangulate(p, rho, tris)) {
+            return;
+          }
+          auto rho = [&](int a, int b, int c) { return radii_ratio(pos(a), pos(b), pos(c)); };
+          if (triangulate(p, rho, tris)) {
             for (const auto& t : tris) {
               out[0] = p.vertex[t[0]], out[1] = p.vertex[t[1]], out[2] = p.vertex[t[2]];
               out += 3;
             }
-          } else {
-            // No manifold-safe diagonals: a fan around a new vertex at the polygon's centroid.
-            Vec3d centre{}, normal{};
-            for (int a = 0; a < p.n; ++a) {
-              centre = centre + pos(a);
-              normal = normal + to_double(mesh.normals[p.vertex[a]]);
-            }
-            mesh.positions[extra] = to_float((1.0 / p.n) * centre);
-            const double nl = norm(normal);
-            mesh.normals[extra] = nl > 0 ? to_float((1.0 / nl) * normal) : Vec3f{0, 0, 1};
-            for (int a = 0; a < p.n; ++a) {
-              out[0] = extra, out[1] = p.vertex[a], out[2] = p.vertex[(a + 1) % p.n];
-              out += 3;
-            }
-            ++extra;
+            return;
           }
+          // No manifold-safe diagonals: a fan around a new vertex at the polygon's centroid.
+          Vec3d centre{}, normal{};
+          for (int a = 0; a < p.n; ++a) {
+            centre = centre + pos(a);
+            normal = normal + to_double(mesh.normals[p.vertex[a]]);
+          }
+          mesh.positions[extra] = to_float((1.0 / p.n) * centre);
+          const double nl = norm(normal);
+          mesh.normals[extra] = nl > 0 ? to_float((1.0 / nl) * normal) : Vec3f{0, 0, 1};
+          for (int a = 0; a < p.n; ++a) {
+            out[0] = extra, out[1] = p.vertex[a], out[2] = p.vertex[(a + 1) % p.n];
+            out += 3;
+          }
+          ++extra;
         });
-        std::swap(below, above);
-        number_slab(k + 1, above);
       }
-      progress_.update(0.5 + 0.5 * double(r.end()) / double(nz_));
+      progress_.update(0.5 + 0.5 * double(rows_done += range.size()) / double(rows()));
     });
   }
 
   // The cells with sheets and their first vertex (for the simplification), in vertex order.
   std::vector<SurfaceCell> surface_cells() const {
     std::vector<SurfaceCell> out;
-    for (int64_t k = 0; k < cz_; ++k) {
-      uint32_t id = static_cast<uint32_t>(slab_vertex_first_[k]);
-      for (int64_t j = 0; j < cy_; ++j) {
-        for_row_cells(j, k, [&](int64_t i, const DcCase& dc) {
-          if (dc.piece_count == 0) return;
-          out.push_back({int32_t(i), int32_t(j), int32_t(k), cell_case(i, j, k), id});
-          id += dc.piece_count;
-        });
+    for (int64_t r = 0; r < rows(); ++r) {
+      const int64_t j = r % cy_, k = r / cy_;
+      for (const RowCell* c = row_begin(j, k); c != row_end(j, k); ++c) {
+        if (table_.cases[c->cs].piece_count == 0) continue;
+        out.push_back({c->x, int32_t(j), int32_t(k), c->cs, c->first_vertex});
       }
     }
     return out;
@@ -475,15 +642,13 @@ class Extractor {
   Progress& progress_;
   const int64_t nx_, ny_, nz_, cx_, cy_, cz_;
   std::optional<TrimmedScan<T>> scan_;
-  std::vector<GridRange> case_range_;  // per row of cells: the trimmed range
-  std::vector<size_t> case_offset_;    // per row of cells: where its cases start in cases_
-  std::vector<uint8_t> cases_;
-  std::vector<uint64_t> slab_vertex_first_;
-  std::vector<uint64_t> plane_triangle_first_;
-  std::vector<uint64_t> plane_extra_first_;
+  bool binary_ = false;
+  std::vector<RowCell> cells_;            // every row's non-trivial cells
+  std::vector<uint64_t> cell_first_;      // per row: its first entry in cells_
+  std::vector<uint64_t> vertex_first_;    // per row: its first sheet vertex
+  std::vector<uint64_t> triangle_first_;  // per row: its first triangle
+  std::vector<uint64_t> extra_first_;     // per row: its first centroid vertex (after the sheets)
   std::vector<Qef> qefs_;  // per sheet vertex, kept only for the simplification
-  std::vector<uint64_t> edge_first_;  // first id of each plane's cut edges
-  std::vector<Hermite> hermite_;      // per cut edge, while vertices are made
 };
 
 }  // namespace
