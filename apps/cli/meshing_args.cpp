@@ -72,6 +72,17 @@ MeshingOptions meshing_options(const MeshingArgs& args) {
   return options;
 }
 
+namespace {
+
+// The iterations the smoothing runs: --iterations, else the method's default.
+int effective_iterations(const MeshingArgs& a) {
+  if (a.smooth_options.iterations > 0) return a.smooth_options.iterations;
+  const auto method = parse_smooth_method(a.smooth);
+  return method ? default_smooth_iterations(*method) : 0;
+}
+
+}  // namespace
+
 nlohmann::json meshing_json(const MeshingArgs& a) {
   nlohmann::json j = {{"method", a.method},
                       {"labels", a.labels},
@@ -81,7 +92,7 @@ nlohmann::json meshing_json(const MeshingArgs& a) {
                       {"presmooth_mm", a.presmooth},
                       {"smooth",
                        {{"method", a.smooth},
-                        {"iterations", a.smooth_options.iterations},
+                        {"iterations", effective_iterations(a)},
                         {"lambda", a.smooth_options.lambda},
                         {"alpha", a.smooth_options.alpha},
                         {"beta", a.smooth_options.beta},

@@ -23,7 +23,13 @@ struct MeshingArgs {
   std::string label_names;
   double presmooth = 0;
   std::string smooth = std::string(smooth_method_name(default_smoothing().method));
-  SmoothOptions smooth_options = default_smoothing();
+  // The default smoothing's parameters, with iterations 0: each method's own count unless
+  // --iterations is given (the default sinc's 20 included).
+  SmoothOptions smooth_options = [] {
+    SmoothOptions o = default_smoothing();
+    o.iterations = 0;
+    return o;
+  }();
   double dc_svd_eps = MeshingOptions{}.dc_svd_eps;
   double dc_tolerance = 0;
 };

@@ -103,6 +103,32 @@ TEST(Cli, DualContouringWithPresmoothingAndSimplificationGivesClosedParts) {
   EXPECT_NE(bad.err.find("--method must be mc or dc"), std::string::npos) << bad.err;
 }
 
+// Without --iterations each smoothing method runs its own default count (HC 2, Taubin 20, the
+// default windowed sinc 20), reported as such; --iterations overrides it.
+TEST(Cli, SmoothingIterationsDefaultPerMethod) {
+  const fs::path dir = test::scratch_dir("cli_iterations");
+  const fs::path phantom = small_phantom("cli_iterations");
+  auto iterations = [&](const std::string& options, const std::string& name) {
+    const auto r = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / (name + ".stl")) + " " + options +
+                               " --labels 2 --report " + q(dir / (name + ".json")) + " --quiet");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    std::ifstream in(dir / (name + ".json"));
+    return nlohmann::json::parse(in)["options"]["smooth"]["iterations"].get<int>();
+  };
+  EXPECT_EQ(iterations("", "default"), 20);
+  EXPECT_EQ(iterations("--smooth hc", "hc"), 2);
+  EXPECT_EQ(iterations("--smooth hc --iterations 2", "hc2"), 2);
+  EXPECT_EQ(iterations("--smooth taubin", "taubin"), 20);
+  EXPECT_EQ(iterations("--smooth laplacian --iterations 5", "laplacian5"), 5);
+  // And the meshes agree: HC by default is HC with two iterations, not with 20.
+  auto bytes = [&](const std::string& name) {
+    std::ifstream in(dir / (name + ".stl"), std::ios::binary);
+    std::string b((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return b.substr(std::min<size_t>(80, b.size()));  // past the header, which names the file
+  };
+  EXPECT_TRUE(bytes("hc") == bytes("hc2"));
+}
+
 TEST(Cli, FolderOutputWritesOneClosedFilePerPart) {
   const fs::path dir = test::scratch_dir("cli_parts");
   const fs::path phantom = small_phantom("cli_parts");
