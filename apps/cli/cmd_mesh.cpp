@@ -104,16 +104,16 @@ int run_mesh(const MeshArgs& args) {
   const auto threads = limit_threads(args.threads);
 
   Timings t;
+  ProgressBar progress(!args.quiet);
+  progress.step("reading");
   auto step = std::chrono::steady_clock::now();
   Image image = read_input(args.input, args.read);
   t.read = ms_since(step);
 
-  ProgressBar progress(!args.quiet);
   PipelineStats pipeline;
   Scene unsmoothed;
   const Scene scene = build_scene_releasing(image, options, progress, &pipeline,
                                   args.report.empty() ? nullptr : &unsmoothed);
-  progress.finish();
   t.components = pipeline.components_ms;
   t.extract = pipeline.extract_ms;
   t.smooth = pipeline.smooth_ms;
@@ -124,6 +124,7 @@ int run_mesh(const MeshArgs& args) {
   std::vector<MeshMeasures> measures;
   tbb::task_group measuring;
   if (!args.quiet || !args.report.empty()) measuring.run([&] { measures = measure_parts(scene); });
+  progress.step("writing");
   step = std::chrono::steady_clock::now();
   std::vector<std::string> outputs;
   try {
@@ -138,6 +139,7 @@ int run_mesh(const MeshArgs& args) {
     throw;
   }
   t.write = ms_since(step);
+  progress.finish();
   t.total = ms_since(start);
   measuring.wait();
   if (!args.report.empty()) {
