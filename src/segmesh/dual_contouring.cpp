@@ -14,12 +14,14 @@
 #include <type_traits>
 #include <vector>
 
+#include "segmesh/component_field.hpp"
 #include "segmesh/dual_contouring_table.hpp"
 #include "segmesh/edge_intersection.hpp"
 #include "segmesh/error.hpp"
 #include "segmesh/marching_cubes_table.hpp"
 #include "segmesh/qef.hpp"
 #include "segmesh/row_trim.hpp"
+#include "segmesh/run_scan.hpp"
 #include "segmesh/dual_contouring_simplify.hpp"
 #include "segmesh/quality.hpp"
 
@@ -206,11 +208,28 @@ class NeighbourhoodCache {
 // Passes, each parallel over rows: count cells and sheets; fill the lists; sheet vertices (QEF);
 // count polygons; emit polygons. Prefix sums between them; the output is the same for any thread
 // count.
-template <class T>
+// The non-trivial cells of a part's mask (margin 2) from the part's runs (run_scan.hpp, margin 1):
+// mask cell (i, j, k) is the scan's cell (i - 1, j - 1, k - 1).
+struct RunCells {
+  const RunScan& scan;
+  template <class Visit>
+  void cells(int64_t j, int64_t k, Visit&& visit) const {
+    if (j < 1 || k < 1) return;
+    scan.cells(j - 1, k - 1, [&](int64_t i, int cs) { visit(i + 1, cs); });
+  }
+};
+
+template <class T, class Cells>
 class Extractor {
  public:
-  Extractor(const Volume<T>& field, const DcOptions& options, Progress& progress)
+  // `cells` lists the non-trivial cells of `field` row by row; `binary`: the field is known to be
+  // 0/1 (a part's mask), so the neighbourhood cache may serve it.
+  Extractor(const Volume<T>& field, const Cells& cells, bool binary, const DcOptions& options,
+            Progress& progress)
       : f_(field),
+        cell_source_(cells),
+        inside_(options.iso),
+        binary_(binary && options.tolerance_mm == 0),
         o_(options),
         table_(dc_table(options.connectivity)),
         progress_(progress),
@@ -224,8 +243,6 @@ class Extractor {
   TriMesh run() {
     TriMesh mesh;
     if (nx_ < 2 || ny_ < 2 || nz_ < 2) return mesh;
-    scan_.emplace(f_, InsideTest<T>(o_.iso), progress_);
-    binary_ = is_binary();
     list_cells();
     const uint64_t sheets = vertex_first_.back();
     count_polygons();
@@ -242,7 +259,7 @@ class Extractor {
     emit_polygons(mesh);
     if (o_.tolerance_mm > 0) {
       DcCells cells{{cx_, cy_, cz_}, surface_cells(), &qefs_,
-                    [this](int64_t i, int64_t j, int64_t k) { return scan_->inside(i, j, k); }};
+                    [this](int64_t i, int64_t j, int64_t k) { return inside_(f_.at(i, j, k)); }};
       mesh = simplify_dual_contour(std::move(mesh), cells, f_.grid, o_);
     }
     return mesh;
@@ -251,19 +268,6 @@ class Extractor {
  private:
   int64_t rows() const { return cy_ * cz_; }
   size_t row_index(int64_t j, int64_t k) const { return static_cast<size_t>(k * cy_ + j); }
-
-  // A 0/1 field contoured between 0 and 1 (a part's mask), whose cells the neighbourhood cache
-  // may serve. Not with simplification, which needs every sheet's QEF.
-  bool is_binary() const {
-    if constexpr (!std::is_same_v<T, uint8_t>) {
-      return false;
-    } else {
-      if (!(o_.iso > 0 && o_.iso < 1) || o_.tolerance_mm > 0) return false;
-      uint8_t any_above = 0;
-      for (uint8_t v : f_.voxels) any_above |= v & 0xfe;
-      return any_above == 0;
-    }
-  }
 
   // Pass 1 and 2: the non-trivial cells of every row, with their first sheet vertex.
   void list_cells() {
@@ -274,7 +278,7 @@ class Extractor {
       for (int64_t r = range.begin(); r < range.end(); ++r) {
         const int64_t j = r % cy_, k = r / cy_;
         uint64_t c = 0, p = 0;
-        scan_->cells(j, k, [&](int64_t, int cs) {
+        cell_source_.cells(j, k, [&](int64_t, int cs) {
           ++c;
           p += table_.cases[cs].piece_count;
         });
@@ -294,7 +298,7 @@ class Extractor {
       for (int64_t r = range.begin(); r < range.end(); ++r) {
         RowCell* out = cells_.data() + cell_first_[size_t(r)];
         uint32_t id = static_cast<uint32_t>(vertex_first_[size_t(r)]);
-        scan_->cells(r % cy_, r / cy_, [&](int64_t i, int cs) {
+        cell_source_.cells(r % cy_, r / cy_, [&](int64_t i, int cs) {
           *out++ = {static_cast<int32_t>(i), static_cast<uint8_t>(cs), id};
           id += table_.cases[cs].piece_count;
         });
@@ -637,12 +641,13 @@ class Extractor {
   }
 
   const Volume<T>& f_;
+  const Cells& cell_source_;
+  const InsideTest<T> inside_;
+  const bool binary_;
   const DcOptions& o_;
   const DcTable& table_;
   Progress& progress_;
   const int64_t nx_, ny_, nz_, cx_, cy_, cz_;
-  std::optional<TrimmedScan<T>> scan_;
-  bool binary_ = false;
   std::vector<RowCell> cells_;            // every row's non-trivial cells
   std::vector<uint64_t> cell_first_;      // per row: its first entry in cells_
   std::vector<uint64_t> vertex_first_;    // per row: its first sheet vertex
@@ -651,11 +656,37 @@ class Extractor {
   std::vector<Qef> qefs_;  // per sheet vertex, kept only for the simplification
 };
 
+// A 0/1 field contoured between 0 and 1, whose cells the neighbourhood cache may serve.
+template <class T>
+bool is_binary(const Volume<T>& field, double iso) {
+  if constexpr (!std::is_same_v<T, uint8_t>) {
+    return false;
+  } else {
+    if (!(iso > 0 && iso < 1)) return false;
+    uint8_t any_above = 0;
+    for (uint8_t v : field.voxels) any_above |= v & 0xfe;
+    return any_above == 0;
+  }
+}
+
 }  // namespace
 
 template <class T>
 TriMesh dual_contouring(const Volume<T>& field, const DcOptions& options, Progress& progress) {
-  return Extractor<T>(field, options, progress).run();
+  const auto& d = field.grid.dims;
+  if (d[0] < 2 || d[1] < 2 || d[2] < 2) return {};
+  const TrimmedScan<T> scan(field, InsideTest<T>(options.iso), progress);
+  return Extractor<T, TrimmedScan<T>>(field, scan, is_binary(field, options.iso), options, progress).run();
+}
+
+TriMesh dual_contouring(const Grid& grid, const Components& components, const Component& component,
+                        const DcOptions& options, Progress& progress) {
+  DcOptions o = options;
+  o.iso = 0.5;
+  const Volume<uint8_t> mask = component_mask(grid, components, component);
+  const RunScan scan(grid, components, component);
+  const RunCells cells{scan};
+  return Extractor<uint8_t, RunCells>(mask, cells, true, o, progress).run();
 }
 
 template TriMesh dual_contouring(const Volume<uint8_t>&, const DcOptions&, Progress&);

@@ -29,6 +29,7 @@
 
 #include <cstdint>
 
+#include "segmesh/components.hpp"
 #include "segmesh/gradient.hpp"
 #include "segmesh/progress.hpp"
 #include "segmesh/tri_mesh.hpp"
@@ -51,6 +52,12 @@ struct DcOptions {
 template <class T>
 TriMesh dual_contouring(const Volume<T>& field, const DcOptions& options,
                         Progress& progress = null_progress());
+
+// Dual Contouring of one connected component of a label map (its 0/1 mask, options.iso
+// ignored): the cells come straight from the component's runs (run_scan.hpp), the Hermite data
+// from the mask; the mesh is the one dual_contouring(component_mask(...)) gives.
+TriMesh dual_contouring(const Grid& grid, const Components& components, const Component& component,
+                        const DcOptions& options, Progress& progress = null_progress());
 
 extern template TriMesh dual_contouring(const Volume<uint8_t>&, const DcOptions&, Progress&);
 extern template TriMesh dual_contouring(const Volume<int32_t>&, const DcOptions&, Progress&);

@@ -105,6 +105,14 @@ Components iso_components(const Image& image, const Volume<T>& volume, double is
   return components;
 }
 
+DcOptions dc_options(const MeshingOptions& o, double iso) {
+  return {.iso = iso,
+          .connectivity = o.connectivity,
+          .normals = o.normals,
+          .svd_eps = o.dc_svd_eps,
+          .tolerance_mm = o.dc_tolerance_mm};
+}
+
 // Extracts one part from the field `make_field(margin)` cuts out: pre-smoothed when asked (with a
 // margin wide enough that the kernel never reaches the crop's border), then MC or DC. A part
 // thinner than the kernel can vanish when smoothed; it is then meshed unsmoothed (and counted),
@@ -113,13 +121,7 @@ template <class MakeField>
 TriMesh extract_part(const Grid& grid, const MeshingOptions& o, double iso, float background,
                      MakeField&& make_field, std::atomic<int64_t>& fallbacks) {
   auto extract = [&](const auto& field) {
-    if (o.method == Method::dual_contouring) {
-      return dual_contouring(field, {.iso = iso,
-                                     .connectivity = o.connectivity,
-                                     .normals = o.normals,
-                                     .svd_eps = o.dc_svd_eps,
-                                     .tolerance_mm = o.dc_tolerance_mm});
-    }
+    if (o.method == Method::dual_contouring) return dual_contouring(field, dc_options(o, iso));
     // Smoothing recomputes the normals from the triangles: the gradient's would be thrown away.
     return marching_cubes(field, {.iso = iso,
                                   .connectivity = o.connectivity,
@@ -275,6 +277,8 @@ Scene extract_parts(const Image& image, const PipelineParts& parts, const Meshin
                                  {.connectivity = o.connectivity,
                                   .normals = o.normals,
                                   .vertex_normals = o.smooth.method == SmoothMethod::none});
+    } else if (!grey && o.presmooth_sigma_mm == 0) {
+      part.mesh = dual_contouring(image.grid(), components, c, dc_options(o, 0.5));
     } else if (!grey) {
       part.mesh = extract_part(image.grid(), o, 0.5, 0.0f, [&](FieldMargin m) {
         return component_mask(image.grid(), components, c, m);
