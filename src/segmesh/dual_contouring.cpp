@@ -1,6 +1,7 @@
 #include "segmesh/dual_contouring.hpp"
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -110,6 +111,20 @@ bool triangulable(const Polygon& p) {
   return triangulate(p, [](int, int, int) { return 1.0; }, unused);
 }
 
+inline float distance(Vec3f a, Vec3f b) {
+  const float x = a.x - b.x, y = a.y - b.y, z = a.z - b.z;
+  return std::sqrt(x * x + y * y + z * z);
+}
+
+// The radii ratio of a triangle with sides a, b, c, without the sorting of radii_ratio_of_sides
+// (quality.hpp): only used to choose between two diagonals, where float and the plain product
+// suffice; 0 for degenerate triangles.
+inline float sides_ratio(float a, float b, float c) {
+  const float f = (b + c - a) * (c + a - b) * (a + b - c);
+  const float abc = a * b * c;
+  return f > 0 && abc > 0 ? f / abc : 0.0f;
+}
+
 // One non-trivial cell in its row's list: x, Marching Cubes case, first sheet vertex.
 struct RowCell {
   int32_t x = 0;
@@ -131,73 +146,103 @@ struct CellVertices {
   std::array<Vec3f, kDcMaxPieces> normal;
 };
 
+// The sheet vertices of a cell with at most two sheets, as NeighbourhoodCache keeps them (plain
+// arrays: nothing to initialise for the cells that only read them).
+struct SheetVertices {
+  static constexpr int kPieces = 2;
+  double offset[kPieces][3];
+  float normal[kPieces][3];
+};
+
 // Sheet vertices of binary cells by their 4 x 4 x 4 neighbourhood (the values every gradient of
 // the cell's corners reads, central or Sobel). The QEF of a cell of a 0/1 field is a function of
 // its neighbourhood alone, and a surface has few distinct neighbourhoods (about 27 000 among the
 // 390 000 surface cells of the phantom, 22 000 among 2.6 million in make_big.py's volume), so each
 // is solved once. A fixed-size open-addressing table shared by the tasks: a slot is claimed by
 // compare-and-swap of its key and published once its value is written; a task that finds a slot
-// still being written, or no free slot in reach, solves the cell itself. The value is what the
-// solve gives, whoever computes it, so the output does not depend on the threads. Cells with more
-// than two sheets (rare) are always solved.
+// still being written, or no free slot in reach, solves the cell itself (and another task may
+// store the same key again: the values are equal). The value is what the solve gives, whoever
+// computes it, so the output does not depend on the threads. Each task keeps a small direct-mapped
+// copy in front of it (NeighbourhoodFront), because neighbouring cells repeat neighbourhoods
+// (a wall along x) and the shared table is too large for the caches; one per thread. Cells with more than two
+// sheets (rare) are always solved.
 class NeighbourhoodCache {
  public:
-  static constexpr int kPieces = 2;
-  struct Entry {
-    std::array<Vec3d, kPieces> offset;
-    std::array<Vec3f, kPieces> normal;
-  };
-
   explicit NeighbourhoodCache(size_t cells) {
     size_t capacity = 1024;
     while (capacity < 2 * cells && capacity < (size_t{1} << 17)) capacity *= 2;
     slots_ = std::make_unique<Slot[]>(capacity);
-    entries_ = std::make_unique_for_overwrite<Entry[]>(capacity);
     mask_ = capacity - 1;
   }
 
-  // The cell's vertices: cached, or solve() (cached when there is room). key != 0.
-  template <class Solve>
-  void get(uint64_t key, int pieces, CellVertices& out, Solve&& solve) {
-    if (pieces > kPieces) return solve(out);
-    size_t h = hash(key) & mask_;
-    for (int probe = 0; probe < 32; ++probe, h = (h + 1) & mask_) {
-      Slot& slot = slots_[h];
-      uint64_t k = slot.key.load(std::memory_order_acquire);
-      if (k == 0) {
-        if (slot.key.compare_exchange_strong(k, key, std::memory_order_acq_rel)) {
-          solve(out);
-          Entry& e = entries_[h];
-          for (int p = 0; p < pieces; ++p) e.offset[p] = out.offset[p], e.normal[p] = out.normal[p];
-          slot.ready.store(1, std::memory_order_release);
-          return;
-        }
-        // Another task claimed the slot first; k now holds its key.
-      }
-      if (k == key) {
-        if (slot.ready.load(std::memory_order_acquire) == 0) return solve(out);
-        const Entry& e = entries_[h];
-        for (int p = 0; p < pieces; ++p) out.offset[p] = e.offset[p], out.normal[p] = e.normal[p];
-        return;
-      }
-    }
-    solve(out);
-  }
-
- private:
-  struct Slot {
-    std::atomic<uint64_t> key{0};
-    std::atomic<uint32_t> ready{0};
-  };
   static size_t hash(uint64_t k) {
     k ^= k >> 33;
     k *= 0xff51afd7ed558ccdULL;
     k ^= k >> 33;
     return static_cast<size_t>(k);
   }
+
+  bool find(uint64_t key, SheetVertices& out) const {
+    size_t h = hash(key) & mask_;
+    for (int probe = 0; probe < kProbes; ++probe, h = (h + 1) & mask_) {
+      const Slot& slot = slots_[h];
+      const uint64_t k = slot.key.load(std::memory_order_acquire);
+      if (k == 0) return false;
+      if (k == key && slot.ready.load(std::memory_order_acquire) != 0) {
+        out = slot.value;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  void insert(uint64_t key, const SheetVertices& v) {
+    size_t h = hash(key) & mask_;
+    for (int probe = 0; probe < kProbes; ++probe, h = (h + 1) & mask_) {
+      Slot& slot = slots_[h];
+      uint64_t k = slot.key.load(std::memory_order_acquire);
+      if (k == key) return;  // stored, or being stored, by another task
+      if (k == 0 && slot.key.compare_exchange_strong(k, key, std::memory_order_acq_rel)) {
+        slot.value = v;
+        slot.ready.store(1, std::memory_order_release);
+        return;
+      }
+    }
+  }
+
+ private:
+  static constexpr int kProbes = 32;
+  struct Slot {
+    std::atomic<uint64_t> key{0};  // 0: empty (no non-trivial cell has an empty neighbourhood)
+    std::atomic<uint32_t> ready{0};
+    SheetVertices value;
+  };
   std::unique_ptr<Slot[]> slots_;
-  std::unique_ptr<Entry[]> entries_;
   size_t mask_ = 0;
+};
+
+// A thread's direct-mapped copy of recently used cache entries.
+class NeighbourhoodFront {
+ public:
+  NeighbourhoodFront() : keys_(kSize, 0), values_(kSize) {}
+  // The entry for `key`: from the front, the shared cache, or solve(out) (then stored in both).
+  template <class Solve>
+  const SheetVertices& get(uint64_t key, NeighbourhoodCache& shared, Solve&& solve) {
+    const size_t i = NeighbourhoodCache::hash(key) & (kSize - 1);
+    if (keys_[i] != key) {
+      if (!shared.find(key, values_[i])) {
+        solve(values_[i]);
+        shared.insert(key, values_[i]);
+      }
+      keys_[i] = key;
+    }
+    return values_[i];
+  }
+
+ private:
+  static constexpr size_t kSize = 4096;
+  std::vector<uint64_t> keys_;
+  std::vector<SheetVertices> values_;
 };
 
 // Dual Contouring row by row, in the manner of marching_cubes.cpp. Cells live in rows (j, k),
@@ -423,25 +468,40 @@ class Extractor {
     std::atomic<int64_t> rows_done{0};
     std::optional<NeighbourhoodCache> cache;
     if (binary_) cache.emplace(cells_.size());
+    tbb::enumerable_thread_specific<NeighbourhoodFront> fronts;  // made on first use per thread
     tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 16), [&](const auto& range) {
       throw_if_cancelled(progress_);
+      NeighbourhoodFront* front = cache ? &fronts.local() : nullptr;
       for (int64_t r = range.begin(); r < range.end(); ++r) {
         const int64_t j = r % cy_, k = r / cy_;
         for (const RowCell* c = row_begin(j, k); c != row_end(j, k); ++c) {
-          const DcCase& dc = table_.cases[c->cs];
-          if (dc.piece_count == 0) continue;
-          CellVertices v;
-          if (cache) {
-            cache->get(neighbourhood(c->x, j, k), dc.piece_count, v,
-                       [&](CellVertices& out) { out = solve_cell(c->x, j, k, c->cs, nullptr); });
-          } else {
-            v = solve_cell(c->x, j, k, c->cs, qefs_.empty() ? nullptr : &qefs_[c->first_vertex]);
-          }
-          for (int piece = 0; piece < dc.piece_count; ++piece) {
-            const Vec3d& d = v.offset[piece];
+          const int pieces = table_.cases[c->cs].piece_count;
+          if (pieces == 0) continue;
+          auto emit = [&](int piece, const double* d, Vec3f normal) {
             mesh.positions[c->first_vertex + piece] =
-                to_float(f_.grid.to_world({double(c->x) + d.x, double(j) + d.y, double(k) + d.z}));
-            mesh.normals[c->first_vertex + piece] = v.normal[piece];
+                to_float(f_.grid.to_world({double(c->x) + d[0], double(j) + d[1], double(k) + d[2]}));
+            mesh.normals[c->first_vertex + piece] = normal;
+          };
+          if (cache && pieces <= SheetVertices::kPieces) {
+            const SheetVertices& v = front->get(neighbourhood(c->x, j, k), *cache, [&](SheetVertices& out) {
+              const CellVertices full = solve_cell(c->x, j, k, c->cs, nullptr);
+              for (int p = 0; p < pieces; ++p) {
+                out.offset[p][0] = full.offset[p].x, out.offset[p][1] = full.offset[p].y;
+                out.offset[p][2] = full.offset[p].z;
+                out.normal[p][0] = full.normal[p].x, out.normal[p][1] = full.normal[p].y;
+                out.normal[p][2] = full.normal[p].z;
+              }
+            });
+            for (int p = 0; p < pieces; ++p) {
+              emit(p, v.offset[p], {v.normal[p][0], v.normal[p][1], v.normal[p][2]});
+            }
+          } else {
+            const CellVertices full =
+                solve_cell(c->x, j, k, c->cs, qefs_.empty() ? nullptr : &qefs_[c->first_vertex]);
+            for (int p = 0; p < pieces; ++p) {
+              const double d[3] = {full.offset[p].x, full.offset[p].y, full.offset[p].z};
+              emit(p, d, full.normal[p]);
+            }
           }
         }
       }
@@ -587,12 +647,14 @@ class Extractor {
           if (p.n == 4) {
             // The diagonal that gives the better pair of triangles (the higher worst radii
             // ratio), from the six edge lengths of the quad.
-            const Vec3d v[4] = {pos(0), pos(1), pos(2), pos(3)};
-            const double s01 = norm(v[1] - v[0]), s12 = norm(v[2] - v[1]), s23 = norm(v[3] - v[2]),
-                         s30 = norm(v[0] - v[3]), d02l = norm(v[2] - v[0]), d13l = norm(v[3] - v[1]);
-            const double d02 = std::min(radii_ratio_of_sides(s01, s12, d02l), radii_ratio_of_sides(d02l, s23, s30));
-            const double d13 = std::min(radii_ratio_of_sides(s12, s23, d13l), radii_ratio_of_sides(d13l, s30, s01));
-            const int s0 = d13 > d02 + 1e-12 ? 1 : 0;
+            const Vec3f* v = mesh.positions.data();
+            const uint32_t* q4 = p.vertex.data();
+            const float s01 = distance(v[q4[0]], v[q4[1]]), s12 = distance(v[q4[1]], v[q4[2]]),
+                        s23 = distance(v[q4[2]], v[q4[3]]), s30 = distance(v[q4[3]], v[q4[0]]),
+                        d02l = distance(v[q4[0]], v[q4[2]]), d13l = distance(v[q4[1]], v[q4[3]]);
+            const float d02 = std::min(sides_ratio(s01, s12, d02l), sides_ratio(d02l, s23, s30));
+            const float d13 = std::min(sides_ratio(s12, s23, d13l), sides_ratio(d13l, s30, s01));
+            const int s0 = d13 > d02 + 1e-6f ? 1 : 0;
             const int q[4] = {s0, s0 + 1, s0 + 2, (s0 + 3) % 4};
             const uint32_t a = p.vertex[q[0]], b = p.vertex[q[1]], c = p.vertex[q[2]], d = p.vertex[q[3]];
             out[0] = a, out[1] = b, out[2] = c, out[3] = a, out[4] = c, out[5] = d;
