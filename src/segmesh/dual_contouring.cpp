@@ -47,10 +47,11 @@ constexpr int kMaxPolygon = 12;
 
 
 
+// The first n entries are set (the rest stays uninitialised: one is made per cut edge).
 struct Polygon {
   int n = 0;
-  std::array<uint32_t, kMaxPolygon> vertex{};
-  std::array<int, kMaxPolygon> quadrant{};
+  std::array<uint32_t, kMaxPolygon> vertex;
+  std::array<int, kMaxPolygon> quadrant;
 };
 
 // Polygon diagonals may only join sheets of the two cells that share nothing but the edge: any
