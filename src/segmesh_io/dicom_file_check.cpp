@@ -5,12 +5,18 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <gdcmDicts.h>
+#include <gdcmGlobal.h>
+#include <gdcmTag.h>
+#include <gdcmVR.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <sstream>
 #include <string>
 
 namespace segmesh::volume_io {
@@ -76,6 +82,26 @@ bool is_known_vr(const char* vr) {
   return false;
 }
 
+// GDCM reads many elements of an image (ImagePositionPatient, PixelSpacing, RescaleSlope, ...) as
+// typed attributes (gdcm::Attribute) and asserts (aborts the process) when the file's VR is not
+// compatible with the one its dictionary gives the element (fuzz_dicom: ImagePositionPatient
+// stored as CS). Which elements it reads that way depends on the kind of image, so every public
+// element of an explicit-VR file must carry its dictionary VR, or UN, by GDCM's own rule
+// (gdcm::VR::Compatible); elements the dictionary does not know, and private ones, may carry any
+// known VR. Returns why not, or "".
+std::string dictionary_vr_mismatch(uint16_t group, uint16_t element, const char* vr) {
+  if (group % 2 == 1) return {};
+  const gdcm::VR expected =
+      gdcm::Global::GetInstance().GetDicts().GetDictEntry(gdcm::Tag(group, element)).GetVR();
+  if (expected == gdcm::VR::INVALID) return {};
+  const std::string found(vr, 2);
+  if (expected.Compatible(gdcm::VR(gdcm::VR::GetVRType(found.c_str())))) return {};
+  std::ostringstream what;
+  what << "element " << tag_text(group, element) << " has the value representation " << found
+       << " where the DICOM dictionary gives " << expected;
+  return what.str();
+}
+
 bool is_long_vr(const char* vr) {
   static const char* const long_vrs[] = {"OB", "OD", "OF", "OL", "OV", "OW", "SQ",
                                          "SV", "UC", "UN", "UR", "UT", "UV"};
@@ -96,6 +122,7 @@ struct Walker {
   int64_t rows = -1, columns = -1, bits_allocated = -1, samples = 1, frames = 1;
   int64_t bits_stored = -1, high_bit = -1, pixel_representation = 0;
   std::string format_error;
+  std::string vr_error;  // the first element whose VR contradicts the dictionary
   bool pixel_data = false;
   bool pixel_encapsulated = false;
   uint64_t pixel_length = 0;
@@ -146,6 +173,7 @@ struct Walker {
         if (!is_known_vr(vr)) {
           return fail("element " + tag_text(group, element) + " has no valid value representation");
         }
+        if (vr_error.empty()) vr_error = dictionary_vr_mismatch(group, element, vr);
         if (is_long_vr(vr)) {
           if (end - pos < 12) return truncated(group, element, 12, end - pos);
           length = u32(pos + 8, big);
@@ -263,6 +291,8 @@ std::string trimmed(const unsigned char* p, size_t n) {
 DicomFileCheck finish(Walker& w) {
   if (!w.pixel_data) return {DicomFileStatus::not_image, "no pixel data"};
   if (!w.format_error.empty()) return {DicomFileStatus::broken, w.format_error};
+  // Only a file GDCM will read as an image matters; other DICOM files are skipped before GDCM.
+  if (!w.vr_error.empty()) return {DicomFileStatus::broken, w.vr_error};
   const auto bad = [](const std::string& what) {
     return DicomFileCheck{DicomFileStatus::broken, "the pixel format is not valid: " + what};
   };
@@ -324,6 +354,7 @@ DicomFileCheck check_dicom_file(const std::filesystem::path& file) {
   Walker meta{bytes, size};
   size_t pos = 132;
   std::string transfer_syntax;
+  std::string meta_vr_error;
   while (size - pos >= 8 && meta.u16(pos, false) == 0x0002) {
     const uint16_t element = meta.u16(pos + 2, false);
     size_t end = pos;
@@ -333,6 +364,7 @@ DicomFileCheck check_dicom_file(const std::filesystem::path& file) {
         return {DicomFileStatus::broken, "the file meta element " + tag_text(2, element) +
                                              " has no valid value representation"};
       }
+      if (meta_vr_error.empty()) meta_vr_error = dictionary_vr_mismatch(2, element, vr);
       size_t header = 8;
       uint32_t length = meta.u16(pos + 6, false);
       if (is_long_vr(vr)) {
@@ -370,6 +402,7 @@ DicomFileCheck check_dicom_file(const std::filesystem::path& file) {
             "with an uncompressed transfer syntax"};
   }
   if (!w.data_set(pos, size, false, 0)) return {DicomFileStatus::broken, w.error};
+  if (!meta_vr_error.empty()) w.vr_error = meta_vr_error;
   return finish(w);
 }
 

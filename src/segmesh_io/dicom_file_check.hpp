@@ -7,13 +7,15 @@
 // the transfer syntax it names (explicit or implicit VR, either byte order), into sequences and
 // items (defined or undefined length, nested at most 32 deep) and encapsulated pixel data
 // fragments. Every length must fit in the file; only the value representations of PS3.5 are
-// accepted (GDCM reads an unknown one with a 32-bit length and allocates it); the file meta group
-// must name its transfer syntax; the image pixel elements must be plain US values describing a
-// pixel format GDCM can name (it asserts otherwise); and uncompressed pixel data must hold at
-// least rows x columns x samples x frames x bits allocated. Each of these rules closes a crash,
-// hang or memory blow-up found by fuzz/fuzz_dicom.cpp (docs/ROBUSTNESS.md). Nothing is
-// allocated; the file is mapped read-only. Cost: one pass over the element headers (values are
-// skipped, not read).
+// accepted (GDCM reads an unknown one with a 32-bit length and allocates it), and in an image a
+// public element must carry the VR GDCM's dictionary gives it, or UN (GDCM asserts when it reads
+// the element as a typed attribute); the file meta group must name its transfer syntax; the image
+// pixel elements must be plain US values describing a pixel format GDCM can name (it asserts
+// otherwise); and uncompressed pixel data must hold at least rows x columns x samples x frames x
+// bits allocated. Each of these rules closes a crash, hang or memory blow-up found by
+// fuzz/fuzz_dicom.cpp (docs/ROBUSTNESS.md). Nothing is allocated; the file is mapped read-only.
+// Cost: one pass over the element headers (values are skipped, not read) and a dictionary look-up
+// per element.
 #pragma once
 
 #include <filesystem>

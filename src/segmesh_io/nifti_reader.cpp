@@ -7,6 +7,7 @@
 #include <cstring>
 #include <fstream>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -246,22 +247,41 @@ Grid nifti2_grid(const NiftiHeader& h, const std::array<int64_t, 3>& dims) {
   return grid;
 }
 
-// ITK turns the qform and sform into matrices and takes their SVD; vnl aborts the process on a
-// non-finite element (found by fuzz_nifti: a NaN in srow_y). The fields ITK will use must be
-// finite numbers.
+// ITK turns the qform and sform into matrices and takes their SVD in single precision (vnl;
+// ITK 5.2 inverts the 4x4 sform, then its 3x3 part, to see whether it is an affine transform,
+// whenever sform_code is set). vnl aborts the process on a non-finite element (found by
+// fuzz_nifti: a NaN in srow_y), and LINPACK's ssvdc under vnl never converges once an element
+// reaches 2^127, half the largest float: a sum of two such numbers overflows to infinity and the
+// iteration goes on forever on NaN (found by fuzz_nifti: a timeout on srow_x[2] = -2^127). The
+// fields ITK will use must be finite and of a size a coordinate can have; 1e15 (mm, or any unit)
+// is far beyond any scanner and far below where single precision overflows.
+constexpr double kMaxOrientationValue = 1e15;
+
 void check_orientation_fields(const fs::path& path, const NiftiHeader& h) {
-  bool finite = std::isfinite(h.pixdim[0]);
+  std::vector<double> values{h.pixdim[0]};
   if (h.qform_code > 0) {
-    for (int i = 0; i < 3; ++i) finite = finite && std::isfinite(h.quatern[i]) && std::isfinite(h.qoffset[i]);
+    values.insert(values.end(), h.quatern.begin(), h.quatern.end());
+    values.insert(values.end(), h.qoffset.begin(), h.qoffset.end());
   }
   if (h.sform_code > 0) {
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 4; ++c) finite = finite && std::isfinite(h.srow[r][c]);
+    for (int r = 0; r < 3; ++r) values.insert(values.end(), h.srow[r], h.srow[r] + 4);
   }
-  if (!finite) {
-    throw file_error(path,
-                     "the image orientation (qform / sform) holds numbers that are not finite "
-                     "(NaN or infinity); the header is corrupt");
+  for (const double value : values) {
+    if (!std::isfinite(value)) {
+      throw file_error(path,
+                       "the image orientation (qform / sform) holds numbers that are not finite "
+                       "(NaN or infinity); the header is corrupt");
+    }
+  }
+  for (const double value : values) {
+    if (std::abs(value) > kMaxOrientationValue) {
+      std::ostringstream shown;
+      shown << value;
+      throw file_error(path, "the image orientation (qform / sform) holds the number " +
+                                 shown.str() +
+                                 ", far beyond any coordinate (at most 1e15); "
+                                 "the header is corrupt");
+    }
   }
 }
 

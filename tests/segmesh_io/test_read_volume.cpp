@@ -105,9 +105,9 @@ TEST(ReadVolumeNifti, IntegerCtStaysIntegerAndFloatFileBecomesScalar) {
   EXPECT_EQ(scalar.voxel_type, "float32");
   ASSERT_FALSE(scalar.is_integer());
   const auto& floats = std::get<ScalarVolume>(scalar.volume).voxels;
-  ASSERT_EQ(floats.size(), labels_of(ct).voxels.size());
-  for (size_t i = 0; i < floats.size(); i += 997)
-    EXPECT_EQ(floats[i], float(labels_of(ct).voxels[i]));
+  const LabelVolume ct_values = labels_of(ct);
+  ASSERT_EQ(floats.size(), ct_values.voxels.size());
+  for (size_t i = 0; i < floats.size(); i += 997) EXPECT_EQ(floats[i], float(ct_values.voxels[i]));
   EXPECT_EQ(scalar.grid().origin, ct.grid().origin);
 }
 
@@ -335,6 +335,33 @@ TEST(ReadVolumeNiftiErrors, UnsupportedOrOutOfRangeValues) {
   const Image image = read_volume(dir / "fine.nii");
   EXPECT_EQ(image.voxel_type, "int64");
   EXPECT_EQ(labels_of(image).voxels[7], -7000000);
+}
+
+// ITK inverts the sform in single precision (vnl's SVD); an element of 2^127 or more never lets
+// the SVD converge (fuzz_nifti: a timeout), a NaN aborts the process. Both are refused before ITK
+// reads the header, as is any orientation number beyond 1e15.
+TEST(ReadVolumeNiftiErrors, AbsurdOrientationNumbersAreRefusedBeforeItk) {
+  const fs::path dir = test::scratch_dir("nifti_orientation");
+  auto file = [&](const std::string& name, size_t offset, float value, int16_t qform_code = 0) {
+    Bytes bytes = volume_test::nifti1_header({2, 2, 2}, 2, 8);
+    bytes.resize(352 + 8, 1);
+    volume_test::put<int16_t>(bytes, 252, qform_code);
+    volume_test::put<float>(bytes, offset, value);
+    volume_test::write_bytes(dir / name, bytes);
+    return dir / name;
+  };
+  expect_error([&] { read_volume(file("huge.nii", 288, -std::ldexp(1.0f, 127))); },
+               {"huge.nii: the image orientation (qform / sform) holds the number -1.70141e+38, "
+                "far beyond any coordinate (at most 1e15); the header is corrupt"});
+  expect_error([&] { read_volume(file("offset.nii", 292, 3e38f)); },  // srow_x[3], a translation
+               {"offset.nii: ", "3e+38, far beyond any coordinate"});
+  expect_error([&] { read_volume(file("nan.nii", 296, std::nanf(""))); },
+               {"nan.nii: ", "not finite"});
+  expect_error([&] { read_volume(file("qoffset.nii", 268, 1e20f, 1)); },
+               {"qoffset.nii: ", "1e+20, far beyond any coordinate"});
+  // Large but sane coordinates are read.
+  const Image image = read_volume(file("far.nii", 292, 1e6f));
+  EXPECT_NEAR(image.grid().origin[0], -1e6, 1e-3);  // RAS to LPS
 }
 
 TEST(ReadVolumeNiftiErrors, NotNifti) {

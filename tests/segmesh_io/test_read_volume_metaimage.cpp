@@ -180,5 +180,65 @@ TEST(ReadVolumeMetaImageErrors, HeaderFaults) {
                {"text.mha: not a MetaImage file"});
 }
 
+// ITK's MetaIO reads as many numbers as NDims says for DimSize, ElementSpacing, TransformMatrix,
+// ..., skipping line ends, and looped forever on an NDims it read as 1e22 (fuzz_mha) while our
+// check saw another line. Each field MetaIO reads as numbers is checked first, on the lines MetaIO
+// itself takes for the fields; none of these reaches ITK.
+TEST(ReadVolumeMetaImageErrors, NumberFieldsAreCheckedBeforeItkReadsThem) {
+  const fs::path dir = test::scratch_dir("mha_numbers");
+  auto check = [&](const std::string& name, const std::string& fields,
+                   std::initializer_list<std::string> parts) {
+    SCOPED_TRACE(name);
+    Bytes file;
+    volume_test::append(file, "ObjectType = Image\n" + fields +
+                                  "ElementType = MET_UCHAR\nElementDataFile = LOCAL\n");
+    file.insert(file.end(), 8, 0);
+    volume_test::write_bytes(dir / name, file);
+    expect_error([&] { read_volume(dir / name); }, parts);
+  };
+  const std::string dims = "NDims = 3\nDimSize = 2 2 2\n";
+  // The fuzz finding: MetaIO compares names case-sensitively and took NDims = 1e22; "NDIms"
+  // passed the old check.
+  check("case.mha", "NDims = 10000000000000000000000\nNDIms = 3\nDimSize = 2 2 2\n",
+        {"case.mha: the MetaImage header field \"NDIms\" must be spelled \"NDims\""});
+  check("twice.mha", dims + "NDims = -1\n", {"twice.mha: the MetaImage header gives NDims twice"});
+  // ':' separates too.
+  check("colon.mha", "NDims: -1\nDimSize = 2 2 2\n",
+        {"colon.mha: NDims = -1 is not a dimension count (1 to 8)"});
+  check("nul.mha", std::string("NDims\0x = 9\n", 12) + dims,
+        {"nul.mha: the MetaImage header field name \"NDims?x\" holds a control character"});
+  // Too few numbers: MetaIO would go on reading the next line.
+  check("few.mha", "NDims = 3\nDimSize = 2 2\n",
+        {"few.mha: DimSize = \"2 2\" is not 3 whole numbers (one per dimension, NDims = 3)"});
+  check("more.mha", "NDims = 3\nDimSize = 2 2 2 2\n", {"DimSize = \"2 2 2 2\" is not 3"});
+  check("text.mha", dims + "ElementSpacing = 1 x 1\n",
+        {"text.mha: ElementSpacing = \"1 x 1\" is not 3 numbers"});
+  check("nan.mha", dims + "ElementSpacing = nan 1 1\n", {"ElementSpacing = \"nan 1 1\" is not 3"});
+  check("matrix.mha", dims + "TransformMatrix = 1 0 0\n",
+        {"TransformMatrix = \"1 0 0\" is not 9 numbers (a 3x3 matrix, NDims = 3)"});
+  check("color.mha", dims + "Color = 1 0 0\n", {"Color = \"1 0 0\" is not 4 numbers"});
+  check("order.mha", "DimSize = 2 2 2\nNDims = 3\n", {"DimSize comes before NDims"});
+  check("negative.mha", "NDims = 3\nDimSize = 2 -2 2\n",
+        {"DimSize = 2 -2 2: every size must be at least 1"});
+  check("fraction.mha", "NDims = 3\nDimSize = 2 2.5 2\n", {"is not 3 whole numbers"});
+  check("range.mha", dims + "HeaderSize = 99999999999\n",
+        {"HeaderSize = 99999999999 is out of range"});
+  check("empty.mha", dims + "ElementMin =\n", {"ElementMin = \"\" is not a number"});
+
+  // What MetaIO accepts besides " = " still reads: ':' as the separator, blank and CRLF lines,
+  // signs and exponents.
+  Bytes file;
+  volume_test::append(file,
+                      "ObjectType = Image\r\n\r\nNDims: 3\r\n  DimSize = 2 2 +2\r\n"
+                      "Comment = a: b = c\r\nElementSpacing = 0.5 5e-1 .5\r\n"
+                      "ElementType = MET_UCHAR\r\nElementDataFile = LOCAL\r\n");
+  file.insert(file.end(), 8, 7);
+  volume_test::write_bytes(dir / "variants.mha", file);
+  const Image image = read_volume(dir / "variants.mha");
+  EXPECT_EQ(image.grid().dims, (std::array<int64_t, 3>{2, 2, 2}));
+  EXPECT_EQ(image.grid().spacing, (std::array<double, 3>{0.5, 0.5, 0.5}));
+  EXPECT_EQ(labels_of(image).voxels, std::vector<int32_t>(8, 7));
+}
+
 }  // namespace
 }  // namespace segmesh
