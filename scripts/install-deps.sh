@@ -16,7 +16,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev               # command line, JSON (reports, glTF)
   googletest libgtest-dev python3-numpy python3-scipy  # tests (../shared/tools/mesh_metrics.py)
   libdeflate-dev                                # fast gzip inflate (.nii.gz, .seg.nrrd)
-  libgdcm-dev                                   # GDCM headers (DICOM warnings silenced, dicom_series.cpp)
+  libgdcm-dev                                   # GDCM: DICOM warnings silenced (dicom_series.cpp), its data dictionary (dicom_file_check.cpp)
   libbenchmark-dev                              # Google Benchmark (bench/segmesh_bench)
   libepoxy-dev libegl-dev libstb-dev            # renderer: OpenGL/EGL loader, EGL headers, PNG
   libegl-mesa0 libgl1-mesa-dri                  # headless rendering: Mesa's EGL and llvmpipe

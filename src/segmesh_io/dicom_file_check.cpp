@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstdio>
+#include <cerrno>
 #include <cstring>
 #include <limits>
 #include <sstream>
@@ -31,14 +32,25 @@ class MappedFile {
  public:
   explicit MappedFile(const std::filesystem::path& file) {
     fd_ = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd_ < 0) return;
+    if (fd_ < 0) {
+      error_ = errno;
+      return;
+    }
     struct stat st {};
-    if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) return;
+    if (::fstat(fd_, &st) != 0) {
+      error_ = errno;
+      return;
+    }
+    if (!S_ISREG(st.st_mode)) {
+      error_ = EINVAL;
+      return;
+    }
     size_ = static_cast<size_t>(st.st_size);
     opened_ = true;
     if (size_ == 0) return;
     void* p = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd_, 0);
     if (p == MAP_FAILED) {
+      error_ = errno;
       opened_ = false;
       return;
     }
@@ -52,11 +64,13 @@ class MappedFile {
   MappedFile& operator=(const MappedFile&) = delete;
 
   bool opened() const { return opened_; }
+  int error() const { return error_; }  // errno when not opened
   const unsigned char* data() const { return data_; }
   size_t size() const { return size_; }
 
  private:
   int fd_ = -1;
+  int error_ = 0;
   bool opened_ = false;
   const unsigned char* data_ = nullptr;
   size_t size_ = 0;
@@ -331,7 +345,7 @@ DicomFileCheck finish(Walker& w) {
 
 DicomFileCheck check_dicom_file(const std::filesystem::path& file) {
   const MappedFile mapped(file);
-  if (!mapped.opened()) return {DicomFileStatus::not_dicom, "cannot be opened"};
+  if (!mapped.opened()) return {DicomFileStatus::unreadable, std::strerror(mapped.error())};
   const unsigned char* bytes = mapped.data();
   const size_t size = mapped.size();
   if (size == 0) return {DicomFileStatus::not_dicom, "empty file"};

@@ -28,6 +28,7 @@ enum class DicomFileStatus {
   not_image,  // well-formed DICOM without pixel data (DICOMDIR, structured report, ...)
   not_dicom,  // no DICOM structure at all (a text file, a thumbnail, an empty file)
   broken,     // DICOM (the "DICM" magic or a DICOM data set start) that is truncated or corrupt
+  unreadable, // the file cannot be opened or read (permissions, I/O error): what it is is unknown
 };
 
 struct DicomFileCheck {

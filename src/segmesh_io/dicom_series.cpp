@@ -131,6 +131,11 @@ std::vector<Slice> scan_folder(const fs::path& folder, const ReadOptions& option
       case DicomFileStatus::not_image:
         warn(options, folder, "skipping " + name + ": a DICOM file without an image");
         continue;
+      case DicomFileStatus::unreadable:
+        // It may be a slice: skipping it could leave a gap at the end of the series that no
+        // spacing check sees.
+        throw file_error(file, "cannot be read (" + check.reason +
+                                   "); give read permission or remove it from the folder");
       case DicomFileStatus::image:
         break;
     }

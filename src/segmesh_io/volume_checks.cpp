@@ -1,6 +1,11 @@
 #include "segmesh_io/volume_checks.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 #include <system_error>
 
@@ -133,6 +138,10 @@ void check_data_file(const fs::path& header, const fs::path& data) {
                                  " is not a regular file (a folder, device or pipe); the header "
                                  "must name the file holding the voxels");
   }
+  // Readable: otherwise the library that opens it next reports a header problem instead.
+  const int fd = ::open(data.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw file_error(data, std::string("cannot open the file (") + std::strerror(errno) + ")");
+  ::close(fd);
 }
 
 uint64_t size_of_file(const fs::path& path) {
