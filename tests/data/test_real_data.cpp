@@ -1,13 +1,21 @@
 // The whole path on real public data (../shared/data): clinical label maps read, split and meshed
-// into closed manifold parts whose counts agree with an independent count and whose volumes agree
-// with the voxel volumes; grey-value CT at integer iso values; identical output for any thread count.
+// into closed manifold parts (edges and vertices) whose counts agree with an independent count and
+// whose volumes agree with the voxel volumes; every label of every readable label map meshed by
+// both methods; Dual Contouring's triangles better than Marching Cubes' as extracted and after
+// smoothing; grey-value CT at integer iso values; identical output for any thread count.
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
+#include <array>
 #include <cstring>
 #include <map>
+#include <string>
+#include <vector>
 
+#include "segmesh/error.hpp"
 #include "segmesh/mesh_measures.hpp"
+#include "segmesh/phantom.hpp"
 #include "segmesh/pipeline.hpp"
 #include "segmesh/quality.hpp"
 #include "segmesh_io/read_volume.hpp"
@@ -16,6 +24,13 @@
 
 namespace segmesh {
 namespace {
+
+// Closed, edge-manifold and vertex-manifold (no pinch points), with a message naming the part.
+void expect_closed_manifold(const MeshMeasures& m, const std::string& what) {
+  EXPECT_TRUE(m.closed()) << what << ": boundary " << m.boundary_edges << ", non-manifold "
+                          << m.nonmanifold_edges << ", winding " << m.winding_errors;
+  EXPECT_EQ(m.nonmanifold_vertices, 0) << what << ": non-manifold vertices (pinch points)";
+}
 
 struct LabelTotals {
   int64_t parts = 0;
@@ -54,9 +69,7 @@ std::map<int32_t, LabelTotals> mesh_and_check(const Image& image, int connectivi
   std::map<int32_t, LabelTotals> totals;
   for (const Part& part : scene.parts) {
     const MeshMeasures m = measure_mesh(part.mesh);
-    EXPECT_TRUE(m.closed()) << image.path << " " << part.name << ": boundary " << m.boundary_edges
-                            << ", non-manifold " << m.nonmanifold_edges << ", winding "
-                            << m.winding_errors;
+    expect_closed_manifold(m, image.path + " " + part.name);
     EXPECT_EQ(m.degenerate_triangles, 0) << part.name;
     EXPECT_GT(m.volume_mm3, 0) << part.name;
     LabelTotals& t = totals[part.label];
@@ -71,14 +84,9 @@ std::map<int32_t, LabelTotals> mesh_and_check(const Image& image, int connectivi
   return totals;
 }
 
-void check_label_map(const std::filesystem::path& file, int connectivity = 26,
-                     Method method = Method::marching_cubes) {
-  SCOPED_TRACE(std::string(method_name(method)));
-  const Image image = read_volume(file);
-  const auto totals = mesh_and_check(image, connectivity, method);
-  // Part counts per label against a breadth-first search over the voxels.
+// Connected components per non-zero label, by the independent breadth-first search.
+std::map<int32_t, int64_t> reference_parts(const LabelVolume& labels, int connectivity) {
   int count = 0;
-  const LabelVolume labels = image.labels_int32();
   const auto comp = test::reference_label_components(labels, connectivity, count);
   std::map<int32_t, int64_t> expected;
   std::vector<bool> seen(count, false);
@@ -88,6 +96,17 @@ void check_label_map(const std::filesystem::path& file, int connectivity = 26,
       ++expected[labels.voxels[i]];
     }
   }
+  return expected;
+}
+
+void check_label_map(const std::filesystem::path& file, int connectivity = 26,
+                     Method method = Method::marching_cubes) {
+  SCOPED_TRACE(std::string(method_name(method)));
+  const Image image = read_volume(file);
+  const auto totals = mesh_and_check(image, connectivity, method);
+  // Part counts per label against a breadth-first search over the voxels.
+  const LabelVolume labels = image.labels_int32();
+  auto expected = reference_parts(labels, connectivity);
   ASSERT_EQ(totals.size(), expected.size()) << file;
   const auto interior = interior_fraction(labels);
   const double voxel = labels.grid.voxel_volume();
@@ -128,39 +147,156 @@ TEST(RealData, PelvicFractureFragments) {
   }
 }
 
+// Triangle-weighted mean radii ratio over a scene's parts.
+double mean_radii_ratio(const Scene& scene) {
+  double sum = 0, n = 0;
+  for (const Part& part : scene.parts) {
+    const QualityStats q = triangle_quality(part.mesh);
+    sum += q.mean * double(q.triangles);
+    n += double(q.triangles);
+  }
+  return n > 0 ? sum / n : 0;
+}
+
 TEST(RealData, DualContouringHasBetterTrianglesThanMarchingCubes) {
   for (const char* name : {"pelvic_fracture/001/001_LI_mask.nii.gz", "totalsegmentator/example_seg_dicom.nii.gz"}) {
     SEGMESH_DATA_FILE(file, name);
     const Image image = read_volume(file);
     double mean[2];
     for (Method method : {Method::marching_cubes, Method::dual_contouring}) {
-      const Scene scene = build_scene(image, {.method = method});
-      double sum = 0, n = 0;
-      for (const Part& part : scene.parts) {
-        const QualityStats q = triangle_quality(part.mesh);
-        sum += q.mean * double(q.triangles);
-        n += double(q.triangles);
-      }
-      mean[method == Method::dual_contouring] = sum / n;
+      mean[method == Method::dual_contouring] =
+          mean_radii_ratio(build_scene(image, {.method = method}));
     }
     EXPECT_GT(mean[1], mean[0]) << name << ": mean radii ratio DC " << mean[1] << ", MC " << mean[0];
   }
 }
 
-TEST(RealData, EveryOtherLabelMapInTheDataClosedWithDualContouring) {
-  for (const char* name : {"pelvic_fracture/002/002_LI_mask.nii.gz", "pelvic_fracture/002/002_RI_mask.nii.gz",
-                           "pelvic_fracture/002/002_SA_mask.nii.gz", "pelvic_fracture/003/003_LI_mask.nii.gz",
-                           "pelvic_fracture/003/003_RI_mask.nii.gz", "pelvic_fracture/003/003_SA_mask.nii.gz",
-                           "dcmqi/liver_spine_seg.nrrd", "dcmqi/heart_seg.nrrd"}) {
+// The label maps of ../shared/data (README.md). Those of the tests above, whose part counts and
+// volumes are checked too, and every other one segmesh reads.
+const std::vector<std::string> kCheckedLabelMaps = {
+    "totalsegmentator/example_seg.nii.gz", "totalsegmentator/example_seg_dicom.nii.gz",
+    "pelvic_fracture/001/001_LI_mask.nii.gz", "pelvic_fracture/001/001_RI_mask.nii.gz",
+    "pelvic_fracture/001/001_SA_mask.nii.gz"};
+const std::vector<std::string> kOtherLabelMaps = {"pelvic_fracture/002/002_LI_mask.nii.gz",
+                                                  "pelvic_fracture/002/002_RI_mask.nii.gz",
+                                                  "pelvic_fracture/002/002_SA_mask.nii.gz",
+                                                  "pelvic_fracture/003/003_LI_mask.nii.gz",
+                                                  "pelvic_fracture/003/003_RI_mask.nii.gz",
+                                                  "pelvic_fracture/003/003_SA_mask.nii.gz",
+                                                  "dcmqi/liver_spine_seg.nrrd",
+                                                  "dcmqi/heart_seg.nrrd",
+                                                  "dcmqi/liver_seg.nrrd",
+                                                  "dcmqi/spine_seg.nrrd",
+                                                  "dcmqi/spine_seg_label5.nrrd"};
+// Volume files of the data that are grey values, not label maps (CT in HU, MRC density maps).
+const std::vector<std::string> kGreyValueVolumes = {
+    "totalsegmentator/example_ct_sm.nii.gz", "totalsegmentator/example_ct.nii.gz",
+    "pelvic_fracture/001/001_LI.nii.gz", "mrc/EMD-3197.map", "mrc/EMD-3001.map"};
+// DICOM SEG objects: label maps segmesh does not read (yet), neither as a file nor in a folder
+// (multi-frame objects are skipped there). When it does, they belong in kOtherLabelMaps.
+const std::vector<std::string> kUnreadableLabelMaps = {"dcmqi/liver.dcm",
+                                                       "dcmqi/partial_overlaps.dcm"};
+
+bool listed(const std::vector<std::string>& list, const std::string& name) {
+  return std::find(list.begin(), list.end(), name) != list.end();
+}
+
+// Every volume file of the data is one of the lists above, so a label map added to the data (or a
+// list entry that lost its file) is noticed here instead of going unmeshed.
+TEST(RealData, EveryVolumeFileInTheDataIsListed) {
+  if (test::shared_data_dir().empty()) GTEST_SKIP() << "../shared/data not found";
+  const std::filesystem::path root = test::shared_data_dir();
+  int volumes = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(root)) {
+    if (!entry.is_regular_file()) continue;
+    const std::string name = entry.path().lexically_relative(root).generic_string();
+    const std::string file = entry.path().filename().string();
+    auto ends = [&](const std::string& suffix) {
+      return file.size() >= suffix.size() &&
+             file.compare(file.size() - suffix.size(), suffix.size(), suffix) == 0;
+    };
+    const bool volume = ends(".nii") || ends(".nii.gz") || ends(".nrrd") || ends(".nhdr") ||
+                        ends(".mha") || ends(".mhd") || ends(".mrc") || ends(".map");
+    if (!volume) continue;
+    ++volumes;
+    EXPECT_TRUE(listed(kCheckedLabelMaps, name) || listed(kOtherLabelMaps, name) ||
+                listed(kGreyValueVolumes, name))
+        << name
+        << ": a volume file no list of test_real_data.cpp names (label map or grey values?)";
+  }
+  EXPECT_EQ(size_t(volumes),
+            kCheckedLabelMaps.size() + kOtherLabelMaps.size() + kGreyValueVolumes.size())
+      << "a listed volume file is missing from " << root;
+  for (const std::string& name : kUnreadableLabelMaps) {
+    EXPECT_TRUE(std::filesystem::exists(root / name)) << name;
+    EXPECT_THROW(read_volume(root / name), Error)
+        << name << " is read now: add it to kOtherLabelMaps so its labels are meshed";
+  }
+}
+
+// Every label map not checked above: every label meshed (its parts against the breadth-first
+// count) by both methods, every part closed and manifold (edges and vertices), no degenerate
+// triangles, positive volume.
+TEST(RealData, EveryOtherLabelMapInTheDataClosedAndManifoldWithBothMethods) {
+  for (const std::string& name : kOtherLabelMaps) {
     SEGMESH_DATA_FILE(file, name);
     const Image image = read_volume(file);
+    const auto expected = reference_parts(image.labels_int32(), 26);
+    ASSERT_FALSE(expected.empty()) << name << ": no labels";
     for (Method method : {Method::marching_cubes, Method::dual_contouring}) {
+      const std::string what = name + " " + std::string(method_name(method));
       const Scene scene = build_scene(image, {.method = method});
+      std::map<int32_t, int64_t> parts;
       for (const Part& part : scene.parts) {
-        EXPECT_TRUE(measure_mesh(part.mesh).closed()) << name << " " << part.name << " "
-                                                      << method_name(method);
+        const MeshMeasures m = measure_mesh(part.mesh);
+        expect_closed_manifold(m, what + " " + part.name);
+        EXPECT_EQ(m.degenerate_triangles, 0) << what << " " << part.name;
+        EXPECT_GT(m.volume_mm3, 0) << what << " " << part.name;
+        ++parts[part.label];
       }
+      EXPECT_EQ(parts, expected) << what << ": parts per label (every label, every component)";
     }
+  }
+}
+
+// As extracted, without smoothing: Dual Contouring's vertices (one per sheet of a cell, inside it)
+// give better-shaped triangles than Marching Cubes' vertices at the edge midpoints of binary
+// labels. Returns the number of parts of each method's scene (MC, DC).
+std::array<size_t, 2> expect_raw_dc_better(const Image& image, const std::string& what) {
+  MeshingOptions options;
+  options.smooth.method = SmoothMethod::none;
+  double mean[2];
+  std::array<size_t, 2> parts{};
+  for (Method method : {Method::marching_cubes, Method::dual_contouring}) {
+    options.method = method;
+    const Scene scene = build_scene(image, options);
+    mean[method == Method::dual_contouring] = mean_radii_ratio(scene);
+    parts[method == Method::dual_contouring] = scene.parts.size();
+  }
+  EXPECT_GT(mean[1], mean[0]) << what << ", raw extraction: mean radii ratio DC " << mean[1]
+                              << ", MC " << mean[0];
+  ::testing::Test::RecordProperty("raw_mean_rho_mc " + what, std::to_string(mean[0]));
+  ::testing::Test::RecordProperty("raw_mean_rho_dc " + what, std::to_string(mean[1]));
+  return parts;
+}
+
+TEST(RealData, RawDualContouringHasBetterTrianglesThanRawMarchingCubesOnThePhantom) {
+  Image phantom;
+  phantom.path = "phantom 256x256x102 at 0.394x0.394x4 mm";
+  phantom.voxel_type = "int32";
+  phantom.volume = make_phantom({.size = {256, 256, 102}, .spacing = {0.394, 0.394, 4.0}});
+  const auto parts = expect_raw_dc_better(phantom, phantom.path);
+  // phantom.hpp: two tibia fragments and the fibula, the plate and six screws.
+  EXPECT_EQ(parts[0], 10u) << phantom.path << ": Marching Cubes parts";
+  EXPECT_EQ(parts[1], 10u) << phantom.path << ": Dual Contouring parts";
+}
+
+TEST(RealData, RawDualContouringHasBetterTrianglesThanRawMarchingCubesOnEveryLabelMap) {
+  std::vector<std::string> all = kCheckedLabelMaps;
+  all.insert(all.end(), kOtherLabelMaps.begin(), kOtherLabelMaps.end());
+  for (const std::string& name : all) {
+    SEGMESH_DATA_FILE(file, name);
+    expect_raw_dc_better(read_volume(file), name);
   }
 }
 
@@ -174,7 +310,8 @@ TEST(RealData, GreyValueCtAtIntegerIsoIsClosedWithoutDegenerateTriangles) {
     ASSERT_FALSE(scene.parts.empty());
     for (const Part& part : scene.parts) {
       const MeshMeasures m = measure_mesh(part.mesh);
-      EXPECT_TRUE(m.closed()) << part.name << " " << method_name(method);
+      expect_closed_manifold(m,
+                             image.path + " " + part.name + " " + std::string(method_name(method)));
       EXPECT_EQ(m.degenerate_triangles, 0) << part.name << " " << method_name(method);
     }
   }
@@ -185,7 +322,8 @@ TEST(RealData, PelvicCtCropAtIso) {
   const Image image = read_volume(file);
   const Scene scene = build_scene(image, {.iso = 150, .normals = NormalMethod::sobel});
   ASSERT_FALSE(scene.parts.empty());
-  for (const Part& part : scene.parts) EXPECT_TRUE(measure_mesh(part.mesh).closed()) << part.name;
+  for (const Part& part : scene.parts)
+    expect_closed_manifold(measure_mesh(part.mesh), image.path + " " + part.name);
 }
 
 TEST(RealData, SameScenesForOneAndTwoThreads) {

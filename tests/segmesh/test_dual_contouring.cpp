@@ -32,7 +32,16 @@ void expect_closed_manifold(const TriMesh& mesh, const std::string& what) {
   const MeshMeasures m = measure_mesh(mesh);
   ASSERT_TRUE(m.closed()) << what << ": boundary " << m.boundary_edges << " non-manifold "
                           << m.nonmanifold_edges << " winding " << m.winding_errors;
+  ASSERT_EQ(m.nonmanifold_vertices, 0) << what << ": non-manifold vertices (pinch points)";
   ASSERT_GT(m.volume_mm3, 0) << what;
+}
+
+// Raw extraction (no smoothing): Dual Contouring's mean radii ratio above Marching Cubes'.
+void expect_better_mean_radii_ratio(const TriMesh& mc, const TriMesh& dc, const std::string& what) {
+  const double rho_mc = triangle_quality(mc).mean, rho_dc = triangle_quality(dc).mean;
+  EXPECT_GT(rho_dc, rho_mc) << what << ": mean radii ratio DC " << rho_dc << " MC " << rho_mc;
+  ::testing::Test::RecordProperty("mean_rho_dc", std::to_string(rho_dc));
+  ::testing::Test::RecordProperty("mean_rho_mc", std::to_string(rho_mc));
 }
 
 TEST(DualContouringTable, SheetsAreDisksAndEveryCutEdgeHasItsSheets) {
@@ -182,6 +191,7 @@ TEST(DualContouring, KeepsTheSharpEdgesOfARotatedCubeThatMarchingCubesChamfers) 
   const TriMesh mc = marching_cubes(field, {.iso = 0});
   const TriMesh dc = dual_contouring(field, {.iso = 0});
   expect_closed_manifold(dc, "cube");
+  expect_better_mean_radii_ratio(mc, dc, "rotated cube");
   const auto edges = cube_edge_points(r, h);
   const MeshDistance to_mc(mc), to_dc(dc);
   std::vector<double> dmc, ddc;
@@ -212,6 +222,7 @@ TEST(DualContouring, KeepsTheRimsOfARotatedCylinder) {
   const TriMesh mc = marching_cubes(field, {.iso = 0});
   const TriMesh dc = dual_contouring(field, {.iso = 0});
   expect_closed_manifold(dc, "cylinder");
+  expect_better_mean_radii_ratio(mc, dc, "rotated cylinder");
   std::vector<Vec3d> rims;
   for (int s = 0; s < 200; ++s) {
     const double a = 2 * std::numbers::pi * s / 200;
@@ -234,8 +245,10 @@ TEST(DualContouring, SphereAreaAndVolumeWithinAQuarterPercent) {
   const Grid grid = anisotropic_grid(r + 2);
   const auto field = sample(grid, [&](Vec3d p) { return r - norm(p); });
   const TriMesh dc = dual_contouring(field, {.iso = 0});
+  expect_better_mean_radii_ratio(marching_cubes(field, {.iso = 0}), dc, "sphere");
   const MeshMeasures m = measure_mesh(dc);
-  EXPECT_TRUE(m.closed());
+  EXPECT_TRUE(m.closed()) << "sphere";
+  EXPECT_EQ(m.nonmanifold_vertices, 0) << "sphere";
   EXPECT_EQ(m.euler, 2);
   const double pi = std::numbers::pi;
   EXPECT_NEAR(m.volume_mm3, 4.0 / 3 * pi * r * r * r, 0.0025 * 4.0 / 3 * pi * r * r * r);
@@ -317,7 +330,8 @@ TEST(DualContouringSimplify, FewerTrianglesSameTopologyWithinTolerance) {
   for (double tolerance : {0.01, 0.05, 0.2}) {
     const TriMesh simple = dual_contouring(field, {.iso = 0, .tolerance_mm = tolerance});
     const MeshMeasures ms = measure_mesh(simple);
-    EXPECT_TRUE(ms.closed()) << tolerance;
+    EXPECT_TRUE(ms.closed()) << "simplified cube, tolerance " << tolerance;
+    EXPECT_EQ(ms.nonmanifold_vertices, 0) << "simplified cube, tolerance " << tolerance;
     EXPECT_EQ(ms.shells, mf.shells);
     EXPECT_EQ(ms.euler, mf.euler);
     EXPECT_LE(simple.triangle_count(), previous) << tolerance;

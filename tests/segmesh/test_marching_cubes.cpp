@@ -23,10 +23,15 @@ using test::anisotropic_grid;
 using test::padded;
 using test::sample;
 
+const char* normals_label(NormalMethod normals) {
+  return normals == NormalMethod::sobel ? "sobel normals" : "central normals";
+}
+
 void expect_closed(const TriMesh& mesh, const std::string& what) {
   const MeshMeasures m = measure_mesh(mesh);
   EXPECT_TRUE(m.closed()) << what << ": boundary " << m.boundary_edges << " non-manifold "
                           << m.nonmanifold_edges << " winding " << m.winding_errors;
+  EXPECT_EQ(m.nonmanifold_vertices, 0) << what << ": non-manifold vertices (pinch points)";
   EXPECT_GT(m.volume_mm3, 0) << what;
   EXPECT_EQ(m.degenerate_triangles, 0) << what;
 }
@@ -76,6 +81,7 @@ TEST(MarchingCubes, AllTwoCellConfigurationsAreClosed) {
       const TriMesh mesh = marching_cubes(field, {.iso = 0.5, .connectivity = c});
       const MeshMeasures m = measure_mesh(mesh);
       ASSERT_TRUE(m.closed()) << "connectivity " << c << " configuration " << cs;
+      ASSERT_EQ(m.nonmanifold_vertices, 0) << "connectivity " << c << " configuration " << cs;
       ASSERT_GT(m.volume_mm3, 0);
       ASSERT_EQ(m.shells, test::expected_shells(field, c)) << "connectivity " << c << " config " << cs;
     }
@@ -140,7 +146,8 @@ TEST(MarchingCubes, SphereOnAnisotropicGridMatchesAnalyticAreaVolumeAndNormals) 
   for (auto normals : {NormalMethod::central, NormalMethod::sobel}) {
     const TriMesh mesh = marching_cubes(field, {.iso = 0, .normals = normals});
     const MeshMeasures m = measure_mesh(mesh);
-    EXPECT_TRUE(m.closed());
+    EXPECT_TRUE(m.closed()) << "sphere, " << normals_label(normals);
+    EXPECT_EQ(m.nonmanifold_vertices, 0) << "sphere, " << normals_label(normals);
     EXPECT_EQ(m.euler, 2);
     EXPECT_NEAR(m.volume_mm3, 4.0 / 3.0 * std::numbers::pi * r * r * r,
                 0.01 * 4.0 / 3.0 * std::numbers::pi * r * r * r);
@@ -160,7 +167,8 @@ TEST(MarchingCubes, TorusOnAnisotropicGridMatchesAnalyticAreaVolumeAndNormals) {
   const TriMesh mesh = marching_cubes(field, {.iso = 0});
   const MeshMeasures m = measure_mesh(mesh);
   const double pi = std::numbers::pi;
-  EXPECT_TRUE(m.closed());
+  EXPECT_TRUE(m.closed()) << "torus";
+  EXPECT_EQ(m.nonmanifold_vertices, 0) << "torus";
   EXPECT_EQ(m.euler, 0);
   EXPECT_EQ(m.shells, 1);
   EXPECT_NEAR(m.volume_mm3, 2 * pi * pi * big * small * small, 0.01 * 2 * pi * pi * big * small * small);
@@ -186,7 +194,8 @@ TEST(MarchingCubes, MirroredAndRotatedGridsKeepOutwardWindingAndWorldPlacement) 
   const auto field = sample(grid, [&](Vec3d p) { return r - norm(p - centre); });
   const TriMesh mesh = marching_cubes(field, {.iso = 0});
   const MeshMeasures m = measure_mesh(mesh);
-  EXPECT_TRUE(m.closed());
+  EXPECT_TRUE(m.closed()) << "mirrored sphere";
+  EXPECT_EQ(m.nonmanifold_vertices, 0) << "mirrored sphere";
   EXPECT_NEAR(m.volume_mm3, 4.0 / 3.0 * std::numbers::pi * r * r * r, 0.02 * 4.0 / 3.0 * std::numbers::pi * r * r * r);
   for (size_t v = 0; v < mesh.positions.size(); ++v) {
     const Vec3d p = to_double(mesh.positions[v]);

@@ -57,12 +57,14 @@ TEST(MarchingCubesRuns, SameMeshAsTheMaskForEveryComponentAndConnectivity) {
       const TriMesh runs = marching_cubes(labels.grid, c, part, o);
       const TriMesh mask = marching_cubes(component_mask(labels.grid, c, part), o);
       ASSERT_FALSE(runs.empty());
-      expect_same_mesh(runs, mask, 1e-4,
-                       "label " + std::to_string(part.label) + " component " +
-                           std::to_string(part.index) + " connectivity " + std::to_string(connectivity));
+      const std::string what = "label " + std::to_string(part.label) + " component " +
+                               std::to_string(part.index) + " connectivity " +
+                               std::to_string(connectivity);
+      expect_same_mesh(runs, mask, 1e-4, what);
       const MeshMeasures m = measure_mesh(runs);
-      EXPECT_TRUE(m.closed());
-      EXPECT_GT(m.volume_mm3, 0);
+      EXPECT_TRUE(m.closed()) << what;
+      EXPECT_EQ(m.nonmanifold_vertices, 0) << what;
+      EXPECT_GT(m.volume_mm3, 0) << what;
       ++compared;
     }
   }
@@ -86,7 +88,8 @@ TEST(MarchingCubesRuns, MirroredRotatedGridsAndFullRows) {
   const TriMesh mask = marching_cubes(component_mask(labels.grid, comps, comps.components[0]), o);
   expect_same_mesh(runs, mask, 1e-4, "box with tunnel");
   const MeshMeasures m = measure_mesh(runs);
-  EXPECT_TRUE(m.closed());
+  EXPECT_TRUE(m.closed()) << "box with tunnel";
+  EXPECT_EQ(m.nonmanifold_vertices, 0) << "box with tunnel";
   EXPECT_GT(m.volume_mm3, 0);  // outward winding on the mirrored grid
   EXPECT_EQ(m.euler, 0);  // a tunnel through: genus 1
 }
