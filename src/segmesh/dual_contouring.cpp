@@ -19,7 +19,6 @@
 #include "segmesh/dual_contouring_table.hpp"
 #include "segmesh/edge_intersection.hpp"
 #include "segmesh/error.hpp"
-#include "segmesh/huge_pages.hpp"
 #include "segmesh/marching_cubes_table.hpp"
 #include "segmesh/qef.hpp"
 #include "segmesh/row_trim.hpp"
@@ -298,9 +297,9 @@ class Extractor {
       throw Error("dual contouring: the surface has more than 4 billion vertices; "
                   "crop the volume or select fewer labels");
     }
-    resize_huge(mesh.positions, vertices);
-    resize_huge(mesh.normals, vertices);
-    resize_huge(mesh.indices, 3 * triangle_first_.back());
+    mesh.positions.resize(vertices);
+    mesh.normals.resize(vertices);
+    mesh.indices.resize(3 * triangle_first_.back());
     if (o_.tolerance_mm > 0) qefs_.resize(sheets);
     emit_vertices(mesh);
     emit_polygons(mesh);

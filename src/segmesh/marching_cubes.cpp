@@ -13,7 +13,6 @@
 #include "segmesh/component_field.hpp"
 #include "segmesh/edge_intersection.hpp"
 #include "segmesh/error.hpp"
-#include "segmesh/huge_pages.hpp"
 #include "segmesh/marching_cubes_table.hpp"
 #include "segmesh/row_trim.hpp"
 #include "segmesh/run_scan.hpp"
@@ -69,9 +68,9 @@ class Extractor {
       throw Error("marching cubes: the surface has more than 4 billion vertices; "
                   "crop the volume or select fewer labels");
     }
-    resize_huge(mesh.positions, vertices);
-    if (normals) resize_huge(mesh.normals, vertices);
-    resize_huge(mesh.indices, 3 * triangle_first_.back());
+    mesh.positions.resize(vertices);
+    if (normals) mesh.normals.resize(vertices);
+    mesh.indices.resize(3 * triangle_first_.back());
     fill(mesh);
     return mesh;
   }
