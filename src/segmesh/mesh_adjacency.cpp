@@ -9,8 +9,6 @@
 #include <bit>
 #include <limits>
 
-#include <sys/mman.h>
-
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -83,19 +81,6 @@ std::vector<Chunk> make_chunks(const std::vector<uint32_t>& idx, size_t nv) {
 }
 
 }  // namespace
-
-void advise_huge_pages(void* p, size_t bytes) {
-#if defined(MADV_HUGEPAGE)
-  constexpr uintptr_t kHuge = uintptr_t{1} << 21;
-  if (bytes < 2 * kHuge) return;
-  const uintptr_t begin = (reinterpret_cast<uintptr_t>(p) + kHuge - 1) & ~(kHuge - 1);
-  const uintptr_t end = (reinterpret_cast<uintptr_t>(p) + bytes) & ~(kHuge - 1);
-  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
-#else
-  (void)p;
-  (void)bytes;
-#endif
-}
 
 bool mesh_rows_fit_32(size_t index_count) {
   return index_count < size_t{std::numeric_limits<uint32_t>::max()};

@@ -26,21 +26,11 @@
 
 namespace segmesh {
 
-// Asks the kernel to back a large, not yet touched allocation with transparent huge pages (where
-// the system allows it on request): one page fault per 2 MB instead of per 4 kB when it is first
-// written. A hint only; does nothing for small blocks.
-void advise_huge_pages(void* p, size_t bytes);
-
 // A std::vector whose resize leaves new elements of trivial types uninitialised (no zero fill
 // before a pass that writes every element anyway).
 template <class T>
 struct UninitializedAllocator : std::allocator<T> {
   using std::allocator<T>::allocator;
-  T* allocate(size_t n) {
-    T* p = std::allocator<T>::allocate(n);
-    advise_huge_pages(p, n * sizeof(T));
-    return p;
-  }
   template <class U>
   struct rebind {
     using other = UninitializedAllocator<U>;
