@@ -37,6 +37,7 @@ echo "| input | threads | VTK discrete FE (s) | segmesh MC (s) | VTK / MC | segm
 echo "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
 for input in "${inputs[@]}"; do
   name=$(basename "$input")
+  rm -f "$out/$name.vtk.jsonl"  # peer_mesh.py appends to its --json file
   $py "$shared/tools/peer_mesh.py" "$input" --methods vtk_discrete_flying_edges,vtk_discrete_flying_edges_sinc \
     --threads 1,2 --repeats 3 --json "$out/$name.vtk.jsonl" >/dev/null 2>&1
   for t in 1 2; do
