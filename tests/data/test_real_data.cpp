@@ -113,8 +113,11 @@ void check_label_map(const std::filesystem::path& file, int connectivity = 26,
   double mesh = 0, voxels = 0;
   for (const auto& [label, t] : totals) {
     EXPECT_EQ(t.parts, expected[label]) << file << " label " << label;
-    // Specks of a few voxels (a single voxel meshes to an octahedron of 1/6 its volume) are only
-    // checked for closedness above.
+    // A surface at 0.5 cuts the staircase's corners: labels one or two voxels thick lose 5-20 %
+    // of their voxel volume (VTK's discrete flying edges loses the same on the same labels,
+    // docs/STUDY.md), so the 5 % bound holds for labels whose voxels are mostly interior. Specks
+    // of a few voxels (a single voxel meshes to an octahedron of 1/6 its volume) are only checked
+    // for closedness above.
     const double bound = interior.at(label) >= 0.5 ? 0.05 : t.voxel_volume >= 27 * voxel ? 0.25 : 1.0;
     EXPECT_NEAR(t.mesh_volume, t.voxel_volume, bound * t.voxel_volume)
         << file << " label " << label << " (interior fraction " << interior.at(label) << ")";
