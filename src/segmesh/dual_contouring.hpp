@@ -14,8 +14,10 @@
 //
 // This is the polygon set the octree recursion (cellProc / faceProc / edgeProc) yields over an
 // unsimplified octree — one polygon per minimal sign-changing edge — computed directly on the grid
-// in the manner of marching_cubes.hpp: counts per z-slab in parallel, prefix sums, then disjoint
-// output ranges, identical for any thread count. Adaptive simplification (`tolerance_mm` > 0)
+// in the manner of marching_cubes.hpp: passes over rows of cells in parallel (list the non-trivial
+// cells, solve their sheets, count then emit the polygons each cell owns), prefix sums between
+// them, disjoint output ranges, identical for any thread count. On a 0/1 field each distinct
+// 4 x 4 x 4 neighbourhood's QEF is solved once (a lock-free cache shared by the threads). Adaptive simplification (`tolerance_mm` > 0)
 // clusters the cells of an octree built over the grid bottom-up: a node's children collapse into
 // one vertex where the merged QEF error stays within the tolerance and Ju et al.'s topology tests
 // hold (one sheet, no sign change hidden at edge, face or cell midpoints), so flat regions get
@@ -23,8 +25,9 @@
 //
 // Guarantees: on a padded field (background on the outer layer) the mesh is closed, edge-manifold
 // and consistently wound, with the connectivity of marching_cubes.hpp.
-// Cost: O(cells) time in three passes over the field plus one QEF solve per sheet; memory one byte
-// per cell for the cell cases plus the output.
+// Cost: one pass over the field to trim its rows (none for a label part, whose cells come from its
+// runs), then O(non-trivial cells) per pass plus one QEF solve per sheet (per distinct
+// neighbourhood on a 0/1 field); memory a list entry per non-trivial cell plus the output.
 #pragma once
 
 #include <cstdint>
