@@ -63,39 +63,44 @@ Vec3d keep_in_box(Vec3d x, Vec3d mass, Vec3d lo, Vec3d hi) {
 }
 
 void symmetric_eigen(const Mat3d& m, Vec3d& values, Mat3d& vectors) {
-  double a[3][3] = {{m[0], m[1], m[2]}, {m[3], m[4], m[5]}, {m[6], m[7], m[8]}};
+  // The symmetric matrix as its diagonal d and its off-diagonal o[0] = (0,1), o[1] = (0,2),
+  // o[2] = (1,2); a rotation in the (p, q) plane changes only d[p], d[q], o(p,q) (zeroed) and the
+  // two entries coupling p and q to the third index r (Golub and Van Loan, Algorithm 8.4.1 with
+  // the symmetric update: a few flops instead of two full 3x3 products).
+  double d[3] = {m[0], m[4], m[8]};
+  double o[3] = {m[1], m[2], m[5]};
   double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  const double scale = std::abs(a[0][0]) + std::abs(a[1][1]) + std::abs(a[2][2]) +
-                       std::abs(a[0][1]) + std::abs(a[0][2]) + std::abs(a[1][2]);
+  const double scale = std::abs(d[0]) + std::abs(d[1]) + std::abs(d[2]) + std::abs(o[0]) +
+                       std::abs(o[1]) + std::abs(o[2]);
+  // (p, q, r, index of o(p,q), of o(p,r), of o(q,r)) for the three planes, in cyclic order.
+  static constexpr int kPlane[3][6] = {{0, 1, 2, 0, 1, 2}, {0, 2, 1, 1, 0, 2}, {1, 2, 0, 2, 0, 1}};
   for (int sweep = 0; sweep < 32; ++sweep) {
-    const double off = std::abs(a[0][1]) + std::abs(a[0][2]) + std::abs(a[1][2]);
+    const double off = std::abs(o[0]) + std::abs(o[1]) + std::abs(o[2]);
     if (off <= 1e-15 * scale || off == 0) break;
-    for (int p = 0; p < 2; ++p) {
-      for (int q = p + 1; q < 3; ++q) {
-        if (a[p][q] == 0) continue;
-        // The rotation that zeroes a[p][q] (Golub and Van Loan, Algorithm 8.4.1).
-        const double theta = (a[q][q] - a[p][p]) / (2 * a[p][q]);
-        const double t = (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1));
-        const double c = 1 / std::sqrt(t * t + 1), s = t * c;
-        for (int k = 0; k < 3; ++k) {  // A <- A G (columns p, q)
-          const double akp = a[k][p], akq = a[k][q];
-          a[k][p] = c * akp - s * akq;
-          a[k][q] = s * akp + c * akq;
-        }
-        for (int k = 0; k < 3; ++k) {  // A <- G^T A (rows p, q)
-          const double apk = a[p][k], aqk = a[q][k];
-          a[p][k] = c * apk - s * aqk;
-          a[q][k] = s * apk + c * aqk;
-        }
-        for (int k = 0; k < 3; ++k) {  // V <- V G
-          const double vkp = v[k][p], vkq = v[k][q];
-          v[k][p] = c * vkp - s * vkq;
-          v[k][q] = s * vkp + c * vkq;
-        }
+    for (const auto& pl : kPlane) {
+      const int p = pl[0], q = pl[1], r = pl[2];
+      double& apq = o[pl[3]];
+      if (apq == 0) continue;
+      const double theta = (d[q] - d[p]) / (2 * apq);
+      const double t = (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1));
+      const double c = 1 / std::sqrt(t * t + 1), s = t * c;
+      d[p] -= t * apq;
+      d[q] += t * apq;
+      apq = 0;
+      double& apr = o[pl[4]];
+      double& aqr = o[pl[5]];
+      const double pr = apr, qr = aqr;
+      apr = c * pr - s * qr;
+      aqr = s * pr + c * qr;
+      for (int k = 0; k < 3; ++k) {  // V <- V G
+        const double vkp = v[k][p], vkq = v[k][q];
+        v[k][p] = c * vkp - s * vkq;
+        v[k][q] = s * vkp + c * vkq;
       }
+      (void)r;
     }
   }
-  values = {a[0][0], a[1][1], a[2][2]};
+  values = {d[0], d[1], d[2]};
   vectors = {v[0][0], v[0][1], v[0][2], v[1][0], v[1][1], v[1][2], v[2][0], v[2][1], v[2][2]};
 }
 
