@@ -13,7 +13,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <memory>
 #include <type_traits>
 #include <vector>
 
@@ -52,11 +51,6 @@ class InsideTest {
 struct GridRange {
   int64_t lo = 0, hi = 0;
   bool empty() const { return lo >= hi; }
-  GridRange merge(GridRange o) const {
-    if (empty()) return o;
-    if (o.empty()) return *this;
-    return {std::min(lo, o.lo), std::max(hi, o.hi)};
-  }
 };
 
 struct RowTrim {
@@ -64,8 +58,6 @@ struct RowTrim {
   int32_t end_cut = 0;
   bool inside_first = false;  // state at x = 0
   bool inside_last = false;   // state at x = nx - 1
-  // Grid points where an x-edge of this row starts that may be cut.
-  GridRange cut_range() const { return {first_cut, end_cut}; }
 };
 
 // Grid points where any of `rows` may change state or differ from one another.
@@ -129,58 +121,14 @@ std::vector<RowTrim> trim_rows(const Volume<T>& f, const InsideTest<T>& inside, 
   return out;
 }
 
-// Ids of the sign-changing edges that start at the grid points of one z-plane, indexed by
-// y * nx + x per axis. Left uninitialised: only entries of cut edges are written and read.
-struct PlaneEdgeIds {
-  std::unique_ptr<uint32_t[]> x, y, z;
-  explicit PlaneEdgeIds(size_t n) : x(new uint32_t[n]), y(new uint32_t[n]), z(new uint32_t[n]) {}
-  uint32_t* axis(int a) { return a == 0 ? x.get() : a == 1 ? y.get() : z.get(); }
-};
-
-// The id of cell edge e (marching_cubes_table.hpp numbering) of the cell at (i, j) of the slab
-// between the planes whose ids are `lo` and `hi`.
-inline uint32_t cell_edge_id(const PlaneEdgeIds& lo, const PlaneEdgeIds& hi, int e, int64_t i,
-                             int64_t j, int64_t nx) {
-  const int b = e & 3;
-  const int lo_bit = b & 1, hi_bit = b >> 1;
-  switch (e >> 2) {
-    case 0: return (hi_bit ? hi : lo).x[(j + lo_bit) * nx + i];
-    case 1: return (hi_bit ? hi : lo).y[j * nx + i + lo_bit];
-    default: return lo.z[(j + hi_bit) * nx + i + lo_bit];
-  }
-}
-
-// Scans one field with its row trims: the sign-changing edges and the non-trivial cells, in the
-// fixed order both extractors number their output in.
+// Scans one field with its row trims: per row, the sign-changing edges and the non-trivial cells,
+// x ascending (the order both extractors number their output in).
 template <class T>
 class TrimmedScan {
  public:
   TrimmedScan(const Volume<T>& f, const InsideTest<T>& inside, Progress& progress)
       : f_(f), inside_(inside), rows_(trim_rows(f, inside, progress)),
         nx_(f.grid.dims[0]), ny_(f.grid.dims[1]), nz_(f.grid.dims[2]) {}
-
-  // Calls visit(axis, i, j) for every sign-changing edge starting at a grid point of plane k:
-  // row by row, x ascending, at each x the x-, then y-, then z-edge.
-  template <class Visit>
-  void cut_edges(int64_t k, Visit&& visit) const {
-    for (int64_t j = 0; j < ny_; ++j) {
-      const RowTrim& r = trim(j, k);
-      const bool has_y = j + 1 < ny_, has_z = k + 1 < nz_;
-      GridRange range = r.cut_range();
-      if (has_y) range = range.merge(pair_range(r, trim(j + 1, k), nx_));
-      if (has_z) range = range.merge(pair_range(r, trim(j, k + 1), nx_));
-      if (range.empty()) continue;
-      const T* a = row(j, k);
-      const T* ay = has_y ? row(j + 1, k) : nullptr;
-      const T* az = has_z ? row(j, k + 1) : nullptr;
-      for (int64_t i = range.lo; i < range.hi; ++i) {
-        const bool in = inside_(a[i]);
-        if (i + 1 < nx_ && inside_(a[i + 1]) != in) visit(0, i, j);
-        if (has_y && inside_(ay[i]) != in) visit(1, i, j);
-        if (has_z && inside_(az[i]) != in) visit(2, i, j);
-      }
-    }
-  }
 
   // The cells [first, last) of row j of slab k (between planes k and k + 1) that may be
   // non-trivial.
@@ -247,20 +195,6 @@ class TrimmedScan {
     int64_t sum = 0;
     cells(j, k, [&](int64_t, int cs) { sum += weight(cs); });
     return sum;
-  }
-
-  bool inside(int64_t i, int64_t j, int64_t k) const { return inside_(row(j, k)[i]); }
-
-  // Numbers the cut edges of plane k from `first` in cut_edges order into `ids`, calling
-  // visit(axis, i, j, id) for each.
-  template <class Visit>
-  void number_plane(int64_t k, uint32_t first, PlaneEdgeIds& ids, Visit&& visit) const {
-    uint32_t id = first;
-    cut_edges(k, [&](int axis, int64_t i, int64_t j) {
-      ids.axis(axis)[j * nx_ + i] = id;
-      visit(axis, i, j, id);
-      ++id;
-    });
   }
 
  private:
