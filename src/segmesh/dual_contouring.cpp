@@ -316,28 +316,31 @@ class Extractor {
   size_t row_index(int64_t j, int64_t k) const { return static_cast<size_t>(k * cy_ + j); }
 
   // Pass 1 and 2: the non-trivial cells of every row, with their first sheet vertex.
-  void list_cells() {
+  // Two counts per row, count(j, k, a, b) adding to a and b, in parallel over rows; then their
+  // prefix sums into first_a and first_b (rows + 1 entries: where each row's share starts).
+  template <class Count>
+  void count_rows(std::vector<uint64_t>& first_a, std::vector<uint64_t>& first_b, Count&& count) {
     const size_t n = static_cast<size_t>(rows());
-    std::vector<uint64_t> cells(n, 0), sheets(n, 0);
+    std::vector<uint64_t> a(n, 0), b(n, 0);
     tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 64), [&](const auto& range) {
       throw_if_cancelled(progress_);
-      for (int64_t r = range.begin(); r < range.end(); ++r) {
-        const int64_t j = r % cy_, k = r / cy_;
-        uint64_t c = 0, p = 0;
-        cell_source_.cells(j, k, [&](int64_t, int cs) {
-          ++c;
-          p += table_.cases[cs].piece_count;
-        });
-        cells[size_t(r)] = c;
-        sheets[size_t(r)] = p;
-      }
+      for (int64_t r = range.begin(); r < range.end(); ++r) count(r % cy_, r / cy_, a[size_t(r)], b[size_t(r)]);
     });
-    cell_first_.assign(n + 1, 0);
-    vertex_first_.assign(n + 1, 0);
+    first_a.assign(n + 1, 0);
+    first_b.assign(n + 1, 0);
     for (size_t r = 0; r < n; ++r) {
-      cell_first_[r + 1] = cell_first_[r] + cells[r];
-      vertex_first_[r + 1] = vertex_first_[r] + sheets[r];
+      first_a[r + 1] = first_a[r] + a[r];
+      first_b[r + 1] = first_b[r] + b[r];
     }
+  }
+
+  void list_cells() {
+    count_rows(cell_first_, vertex_first_, [&](int64_t j, int64_t k, uint64_t& cells, uint64_t& sheets) {
+      cell_source_.cells(j, k, [&](int64_t, int cs) {
+        ++cells;
+        sheets += table_.cases[cs].piece_count;
+      });
+    });
     cells_.resize(cell_first_.back());
     tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 64), [&](const auto& range) {
       throw_if_cancelled(progress_);
@@ -510,6 +513,10 @@ class Extractor {
     });
   }
 
+  static const RowCell* right_neighbour(const RowCell* c, const RowCell* end) {
+    return c != nullptr && c + 1 != end && c[1].x == c->x + 1 ? c + 1 : nullptr;
+  }
+
   // The cells at x and x + 1 of one row's list, found by a cursor that only moves forwards.
   class RowCursor {
    public:
@@ -519,14 +526,9 @@ class Extractor {
       while (at_ != end_ && at_->x < x) ++at_;
       return at_ != end_ && at_->x == x ? at_ : nullptr;
     }
-    const RowCell* next_after(const RowCell* c, int64_t x) const {  // the cell at x + 1, or nullptr
-      if (c == nullptr) {
-        const RowCell* p = at_;
-        while (p != end_ && p->x <= x) ++p;
-        return p != end_ && p->x == x + 1 ? p : nullptr;
-      }
-      return c + 1 != end_ && c[1].x == x + 1 ? c + 1 : nullptr;
-    }
+    // The cell after c in the row when it is its neighbour at c->x + 1, or nullptr (also for
+    // c == nullptr: an edge that needs both is then not cut, and polygon() reports it).
+    const RowCell* right_of(const RowCell* c) const { return right_neighbour(c, end_); }
 
    private:
     const RowCell* at_;
@@ -553,17 +555,33 @@ class Extractor {
       const RowCell* a10 = r10.at(x);
       const RowCell* a01 = r01.at(x);
       const RowCell* a11 = r11.at(x);
-      const RowCell* right = c + 1 != end && c[1].x == x + 1 ? c + 1 : nullptr;
+      const RowCell* right = right_neighbour(c, end);
       if (cut3) visit(0, std::array<const RowCell*, 4>{a10, a11, a01, c}, (cs >> 6 & 1) != 0);
       if (cut7) {
-        visit(1, std::array<const RowCell*, 4>{a01, r01.next_after(a01, x), right, c},
+        visit(1, std::array<const RowCell*, 4>{a01, r01.right_of(a01), right, c},
               (cs >> 5 & 1) != 0);
       }
       if (cut11) {
-        visit(2, std::array<const RowCell*, 4>{right, r10.next_after(a10, x), a10, c},
+        visit(2, std::array<const RowCell*, 4>{right, r10.right_of(a10), a10, c},
               (cs >> 3 & 1) != 0);
       }
     }
+  }
+
+  // Quadrant q's cell around a cut edge: it exists, as every cell around a cut edge is
+  // non-trivial.
+  static const RowCell& quadrant_cell(const std::array<const RowCell*, 4>& quadrant, int q) {
+    if (quadrant[q] == nullptr) throw std::logic_error("dual contouring: a cut edge without its four cells");
+    return *quadrant[q];
+  }
+
+  // The number of sheets around an edge along `axis`: its polygon's size.
+  int polygon_size(int axis, const std::array<const RowCell*, 4>& quadrant) const {
+    int size = 0;
+    for (int q = 0; q < 4; ++q) {
+      size += table_.cases[quadrant_cell(quadrant, q).cs].around_count[local_edge(axis, -kQuadrantDu[q], -kQuadrantDv[q])];
+    }
+    return size;
   }
 
   // The polygon of the sheets around an edge along `axis` from its four cells (all non-trivial,
@@ -571,8 +589,7 @@ class Extractor {
   Polygon polygon(int axis, const std::array<const RowCell*, 4>& quadrant, bool inside_at_start) const {
     Polygon p;
     for (int q = 0; q < 4; ++q) {
-      const RowCell* cell = quadrant[q];
-      if (cell == nullptr) throw std::logic_error("dual contouring: a cut edge without its four cells");
+      const RowCell* cell = &quadrant_cell(quadrant, q);
       const DcCase& dc = table_.cases[cell->cs];
       const int e = local_edge(axis, -kQuadrantDu[q], -kQuadrantDv[q]);
       const int count = dc.around_count[e];
@@ -600,36 +617,17 @@ class Extractor {
 
   // Pass 4: triangles and centroid vertices per row.
   void count_polygons() {
-    const size_t n = static_cast<size_t>(rows());
-    std::vector<uint64_t> triangles(n, 0), extra(n, 0);
-    tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 64), [&](const auto& range) {
-      throw_if_cancelled(progress_);
-      for (int64_t r = range.begin(); r < range.end(); ++r) {
-        uint64_t nt = 0, ne = 0;
-        owned_edges(r % cy_, r / cy_, [&](int axis, const auto& quadrant, bool in) {
-          int size = 0;
-          for (int q = 0; q < 4; ++q) {
-            if (quadrant[q] == nullptr) throw std::logic_error("dual contouring: a cut edge without its four cells");
-            size += table_.cases[quadrant[q]->cs].around_count[local_edge(axis, -kQuadrantDu[q], -kQuadrantDv[q])];
-          }
-          if (size == 4) {
-            nt += 2;
-            return;
-          }
-          const auto [t, e] = polygon_cost(polygon(axis, quadrant, in));
-          nt += t;
-          ne += e;
-        });
-        triangles[size_t(r)] = nt;
-        extra[size_t(r)] = ne;
-      }
+    count_rows(triangle_first_, extra_first_, [&](int64_t j, int64_t k, uint64_t& triangles, uint64_t& extra) {
+      owned_edges(j, k, [&](int axis, const auto& quadrant, bool in) {
+        if (polygon_size(axis, quadrant) == 4) {  // nearly every edge: a quad, two triangles
+          triangles += 2;
+          return;
+        }
+        const auto [t, e] = polygon_cost(polygon(axis, quadrant, in));
+        triangles += t;
+        extra += e;
+      });
     });
-    triangle_first_.assign(n + 1, 0);
-    extra_first_.assign(n + 1, 0);
-    for (size_t r = 0; r < n; ++r) {
-      triangle_first_[r + 1] = triangle_first_[r] + triangles[r];
-      extra_first_[r + 1] = extra_first_[r] + extra[r];
-    }
   }
 
   // Pass 5: the polygons, split into triangles.
