@@ -7,24 +7,15 @@
 
 #include <algorithm>
 #include <map>
-#include <random>
 
 #include "segmesh/component_field.hpp"
 #include "support/reference_components.hpp"
+#include "support/test_fields.hpp"
 
 namespace segmesh {
 namespace {
 
-LabelVolume random_labels(std::array<int64_t, 3> dims, int labels, double density, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::bernoulli_distribution filled(density);
-  std::uniform_int_distribution<int> label(1, labels);
-  LabelVolume v;
-  v.grid.dims = dims;
-  v.voxels.resize(v.grid.voxel_count());
-  for (auto& x : v.voxels) x = filled(rng) ? label(rng) : 0;
-  return v;
-}
+using test::random_labels;
 
 // (label, voxels) of every component, sorted as the library sorts them.
 std::vector<std::pair<int32_t, int64_t>> reference_sizes(const LabelVolume& v, int connectivity) {

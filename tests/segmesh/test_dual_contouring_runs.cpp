@@ -4,33 +4,20 @@
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
-#include <cstring>
-#include <random>
-
 #include "segmesh/component_field.hpp"
 #include "segmesh/components.hpp"
 #include "segmesh/dual_contouring.hpp"
 #include "segmesh/mesh_measures.hpp"
+#include "support/test_fields.hpp"
 
 namespace segmesh {
 namespace {
 
-LabelVolume random_labels(std::array<int64_t, 3> dims, double p, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::bernoulli_distribution fill(p);
-  std::uniform_int_distribution<int32_t> label(1, 2);
-  LabelVolume v;
-  v.grid.dims = dims;
-  v.voxels.resize(v.grid.voxel_count());
-  for (auto& x : v.voxels) x = fill(rng) ? label(rng) : 0;
-  return v;
-}
+using test::identical;
 
-bool same_mesh(const TriMesh& a, const TriMesh& b) {
-  return a.indices == b.indices && a.positions.size() == b.positions.size() &&
-         std::memcmp(a.positions.data(), b.positions.data(), a.positions.size() * sizeof(Vec3f)) == 0 &&
-         a.normals.size() == b.normals.size() &&
-         std::memcmp(a.normals.data(), b.normals.data(), a.normals.size() * sizeof(Vec3f)) == 0;
+// Label maps of random voxels with labels 1 and 2, filling the volume to its border.
+LabelVolume random_labels(std::array<int64_t, 3> dims, double density, unsigned seed) {
+  return test::random_labels(dims, 2, density, seed);
 }
 
 TEST(DualContouringRuns, SameMeshAsTheMaskForEveryComponent) {
@@ -46,7 +33,7 @@ TEST(DualContouringRuns, SameMeshAsTheMaskForEveryComponent) {
         const TriMesh runs = dual_contouring(labels.grid, c, part, o);
         const TriMesh mask = dual_contouring(component_mask(labels.grid, c, part), o);
         ASSERT_FALSE(runs.empty());
-        EXPECT_TRUE(same_mesh(runs, mask)) << "label " << part.label << " component " << part.index
+        EXPECT_TRUE(identical(runs, mask)) << "label " << part.label << " component " << part.index
                                            << " connectivity " << connectivity;
         EXPECT_TRUE(measure_mesh(runs).closed());
         ++compared;
@@ -63,7 +50,7 @@ TEST(DualContouringRuns, IdenticalForAnyThreadCount) {
   tbb::task_arena(1).execute([&] { one = dual_contouring(labels.grid, c, c.components[0], {}); });
   tbb::task_arena(4).execute([&] { many = dual_contouring(labels.grid, c, c.components[0], {}); });
   ASSERT_GT(one.triangle_count(), 10000u);
-  EXPECT_TRUE(same_mesh(one, many));
+  EXPECT_TRUE(identical(one, many));
 }
 
 }  // namespace

@@ -1,14 +1,38 @@
-// Fields the extraction tests are run on: padded 0/1 patterns and analytic shapes sampled on
-// anisotropic, rotated grids.
+// Fields the extraction tests are run on: padded 0/1 patterns, random label maps and analytic
+// shapes sampled on anisotropic, rotated grids; and the exact comparison of two meshes.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <cstring>
+#include <random>
 #include <vector>
 
+#include "segmesh/tri_mesh.hpp"
 #include "segmesh/volume.hpp"
 
 namespace segmesh::test {
+
+// A label map of random voxels: each filled with probability `density`, with a label drawn from
+// 1 .. labels; parts touch the volume's border.
+inline LabelVolume random_labels(std::array<int64_t, 3> dims, int labels, double density, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::bernoulli_distribution filled(density);
+  std::uniform_int_distribution<int> label(1, labels);
+  LabelVolume v;
+  v.grid.dims = dims;
+  v.voxels.resize(v.grid.voxel_count());
+  for (auto& x : v.voxels) x = filled(rng) ? label(rng) : 0;
+  return v;
+}
+
+// The same triangles on bit-identical positions and normals.
+inline bool identical(const TriMesh& a, const TriMesh& b) {
+  return a.indices == b.indices && a.positions.size() == b.positions.size() &&
+         std::memcmp(a.positions.data(), b.positions.data(), a.positions.size() * sizeof(Vec3f)) == 0 &&
+         a.normals.size() == b.normals.size() &&
+         std::memcmp(a.normals.data(), b.normals.data(), a.normals.size() * sizeof(Vec3f)) == 0;
+}
 
 // A binary field with `pad` background voxels around the given inside pattern.
 inline Volume<uint8_t> padded(const std::array<int64_t, 3>& dims, const std::vector<uint8_t>& inside,
