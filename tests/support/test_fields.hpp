@@ -28,10 +28,12 @@ inline LabelVolume random_labels(std::array<int64_t, 3> dims, int labels, double
 
 // The same triangles on bit-identical positions and normals.
 inline bool identical(const TriMesh& a, const TriMesh& b) {
-  return a.indices == b.indices && a.positions.size() == b.positions.size() &&
-         std::memcmp(a.positions.data(), b.positions.data(), a.positions.size() * sizeof(Vec3f)) == 0 &&
-         a.normals.size() == b.normals.size() &&
-         std::memcmp(a.normals.data(), b.normals.data(), a.normals.size() * sizeof(Vec3f)) == 0;
+  // Bitwise (a NaN equals itself; -0 and 0 differ); empty arrays may have no data pointer.
+  auto same = [](const std::vector<Vec3f>& x, const std::vector<Vec3f>& y) {
+    return x.size() == y.size() &&
+           (x.empty() || std::memcmp(x.data(), y.data(), x.size() * sizeof(Vec3f)) == 0);
+  };
+  return a.indices == b.indices && same(a.positions, b.positions) && same(a.normals, b.normals);
 }
 
 // A binary field with `pad` background voxels around the given inside pattern.
