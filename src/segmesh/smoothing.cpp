@@ -380,11 +380,11 @@ class Smoother {
 };
 
 // Coefficients of 6 V(delta) = k0 + k1 delta + k2 delta^2 + k3 delta^3, the volume after every
-// vertex moves by delta along its unit normal, twice the area, and 6 times the original volume.
+// vertex moves by delta along its unit normal, and 6 times the original volume.
 struct VolumeCubic {
-  double k0 = 0, k1 = 0, k2 = 0, k3 = 0, area2 = 0, original = 0;
+  double k0 = 0, k1 = 0, k2 = 0, k3 = 0, original = 0;
   VolumeCubic operator+(const VolumeCubic& o) const {
-    return {k0 + o.k0, k1 + o.k1, k2 + o.k2, k3 + o.k3, area2 + o.area2, original + o.original};
+    return {k0 + o.k0, k1 + o.k1, k2 + o.k2, k3 + o.k3, original + o.original};
   }
 };
 
@@ -396,8 +396,8 @@ struct Restoration {
 // Gives the smoothed positions s(i) the enclosed volume V0 of the original ones o(i) (both
 // relative to one centre, for well-conditioned sums): every vertex moves along its area-weighted
 // unit normal (into `normal`) by the one offset delta that restores it. The volume after the move
-// is a cubic in delta (VolumeCubic), solved by Newton's method from the first-order step
-// (V0 - V) / area. A part that smoothing nearly erased (below a quarter of its volume: specks of
+// is a cubic in delta (VolumeCubic), solved by Newton's method from delta = 0 (whose first step
+// is the first-order one, (V0 - V) / (dV/ddelta)). A part that smoothing nearly erased (below a quarter of its volume: specks of
 // a few voxels) keeps its original positions instead; a mesh that encloses no positive volume is
 // left as smoothed.
 template <class Index, class Original, class Smoothed>
@@ -423,7 +423,6 @@ Restoration restore_volume(const Adjacency<Index>& adj, const std::vector<uint32
       s.k1 += dot(na, bc) + dot(a, nbc) + dot(a, bnc);
       s.k2 += dot(na, nbc) + dot(na, bnc) + dot(a, nbnc);
       s.k3 += dot(na, nbnc);
-      s.area2 += norm(cross(b - a, c - a));
     }
     return s;
   });
@@ -431,10 +430,7 @@ Restoration restore_volume(const Adjacency<Index>& adj, const std::vector<uint32
   if (!(target > 0)) return {};  // not a closed outward-wound surface: nothing to restore
   if (volume < 0.25 * target) return {.keep_original = true};
   if (std::abs(volume - target) <= 1e-9 * target) return {};
-  if (!(k.area2 > 0)) return {};
-  // First-order step, as if every normal were the face normal (6 dV/ddelta = 3 area2), then
-  // Newton on the cubic.
-  double delta = (target - volume) / (3 * k.area2);
+  double delta = 0;  // no step if the derivative k1 is not positive
   for (int step = 0; step < 50; ++step) {
     const double g = k.k0 + delta * (k.k1 + delta * (k.k2 + delta * k.k3)) - target;
     const double dg = k.k1 + delta * (2 * k.k2 + delta * 3 * k.k3);
@@ -519,18 +515,22 @@ void smooth_with(TriMesh& mesh, const SmoothOptions& options, int iterations, Pr
     case SmoothMethod::none:
       break;
   }
-  // Position i relative to the centre: before (original) and after smoothing.
+  // Position i relative to the centre: before (original) and after smoothing. The smoothed ones
+  // replace the displacements in d, rounded to float once (below the final float rounding of the
+  // world positions: |p - centre| <= |p| for meshes away from the world origin), because the
+  // volume restoration reads each many times.
+  for_each_vertex(nv, [&](size_t i) { d[i] = to_float(gain * (to_d(o[i]) - centre) + to_d(d[i])); });
   const auto original = [&](size_t i) { return to_d(o[i]) - centre; };
-  const auto smoothed = [&](size_t i) { return gain * (to_d(o[i]) - centre) + to_d(d[i]); };
+  const auto smoothed = [&](size_t i) { return to_d(d[i]); };
   Restoration r;
   if (options.preserve_volume) r = restore_volume(adj, idx, original, smoothed, nv, scratch);
   if (!r.keep_original) {
     const bool moved = r.delta != 0;
     for_each_vertex(nv, [&](size_t i) {
       if (graph.size(i) == 0) return;
-      Vec3d change = (gain - 1) * (to_d(o[i]) - centre) + to_d(d[i]);
-      if (moved) change = change + r.delta * to_d(scratch[i]);
-      mesh.positions[i] = to_float(to_d(mesh.positions[i]) + change);
+      Vec3d p = centre + to_d(d[i]);
+      if (moved) p = p + r.delta * to_d(scratch[i]);
+      mesh.positions[i] = to_float(p);
     });
   }
   own_d.reset();
