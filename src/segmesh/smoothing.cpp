@@ -516,9 +516,10 @@ void smooth_with(TriMesh& mesh, const SmoothOptions& options, int iterations, Pr
       break;
   }
   // Position i relative to the centre: before (original) and after smoothing. The smoothed ones
-  // replace the displacements in d, rounded to float once (below the final float rounding of the
-  // world positions: |p - centre| <= |p| for meshes away from the world origin), because the
-  // volume restoration reads each many times.
+  // replace the displacements in d, rounded to float once, because the volume restoration reads
+  // each many times. The rounding is at most half a float step of the box's half-diagonal
+  // (4e-6 mm for a 200 mm box): no more than the final rounding of the world positions for a
+  // mesh away from the world origin, and a few nanometres in any case.
   for_each_vertex(nv, [&](size_t i) { d[i] = to_float(gain * (to_d(o[i]) - centre) + to_d(d[i])); });
   const auto original = [&](size_t i) { return to_d(o[i]) - centre; };
   const auto smoothed = [&](size_t i) { return to_d(d[i]); };
