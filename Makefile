@@ -46,8 +46,9 @@ clean:
 # AddressSanitizer + UndefinedBehaviorSanitizer over the whole test suite (docs/ROBUSTNESS.md):
 # its own build folder, RelWithDebInfo with -O1 -g1 (line tables: what the reports need; half the
 # compile time of -O2 -g, and the sanitizer build is most of make test) and
-# -fsanitize=address,undefined -fno-sanitize-recover=undefined. Leaks are reported except inside the third-party libraries
-# listed (with the reason) in fuzz/lsan.supp (Mesa's OpenGL drivers, ITK's NRRD reader).
+# -fsanitize=address,undefined -fno-sanitize-recover=undefined. Leaks are reported except inside
+# the third-party libraries listed (with the reason) in fuzz/lsan.supp (Mesa's OpenGL drivers,
+# ITK's NRRD reader).
 # SANITIZE_CTEST_ARGS passes extra ctest arguments (e.g. -E to leave tests out).
 ASAN_BUILD_DIR ?= build-asan
 SANITIZE_CTEST_ARGS ?=
@@ -65,13 +66,15 @@ SANITIZER_ENV := ASAN_OPTIONS=detect_leaks=1:$(ASAN_CHECKS) \
 # LeakSanitizer looks, leave allocations whose stacks are "<unknown module>" and cannot be named in
 # a suppression (docs/ROBUSTNESS.md); every other sanitizer check stays on for them.
 VIEWER_SMOKE := ViewerSmoke
+SANITIZER_CTEST = ctest --test-dir $(ASAN_BUILD_DIR) --output-on-failure -j $(JOBS) --repeat until-pass:2
 sanitize: deps
 	@cmake -S . -B $(ASAN_BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 		-DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
 		-DSEGMESH_SANITIZE=ON >/dev/null
 	@cmake --build $(ASAN_BUILD_DIR) -j $(JOBS)
-	@$(SANITIZER_ENV) ctest --test-dir $(ASAN_BUILD_DIR) --output-on-failure -j $(JOBS) --repeat until-pass:2 -E '$(VIEWER_SMOKE)' $(SANITIZE_CTEST_ARGS)
-	@$(SANITIZER_ENV) ASAN_OPTIONS=detect_leaks=0:$(ASAN_CHECKS) ctest --test-dir $(ASAN_BUILD_DIR) --output-on-failure -j $(JOBS) --repeat until-pass:2 -R '$(VIEWER_SMOKE)' --no-tests=ignore
+	@$(SANITIZER_ENV) $(SANITIZER_CTEST) -E '$(VIEWER_SMOKE)' $(SANITIZE_CTEST_ARGS)
+	@$(SANITIZER_ENV) ASAN_OPTIONS=detect_leaks=0:$(ASAN_CHECKS) $(SANITIZER_CTEST) -R '$(VIEWER_SMOKE)' \
+		--no-tests=ignore
 
 # libFuzzer targets for every reader, FUZZ_SECONDS each (scripts/fuzz.sh; needs clang:
 # scripts/install-deps.sh --with-fuzz). Not part of `make test`.

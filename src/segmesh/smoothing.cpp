@@ -397,9 +397,9 @@ struct Restoration {
 // relative to one centre, for well-conditioned sums): every vertex moves along its area-weighted
 // unit normal (into `normal`) by the one offset delta that restores it. The volume after the move
 // is a cubic in delta (VolumeCubic), solved by Newton's method from delta = 0 (whose first step
-// is the first-order one, (V0 - V) / (dV/ddelta)). A part that smoothing nearly erased (below a quarter of its volume: specks of
-// a few voxels) keeps its original positions instead; a mesh that encloses no positive volume is
-// left as smoothed.
+// is the first-order one, (V0 - V) / (dV/ddelta)). A part that smoothing nearly erased (below a
+// quarter of its volume: specks of a few voxels) keeps its original positions instead; a mesh
+// that encloses no positive volume is left as smoothed.
 template <class Index, class Original, class Smoothed>
 Restoration restore_volume(const Adjacency<Index>& adj, const std::vector<uint32_t>& idx,
                            Original&& original, Smoothed&& smoothed, size_t nv, Vec3f* normal) {
@@ -520,7 +520,9 @@ void smooth_with(TriMesh& mesh, const SmoothOptions& options, int iterations, Pr
   // each many times. The rounding is at most half a float step of the box's half-diagonal
   // (4e-6 mm for a 200 mm box): no more than the final rounding of the world positions for a
   // mesh away from the world origin, and a few nanometres in any case.
-  for_each_vertex(nv, [&](size_t i) { d[i] = to_float(gain * (to_d(o[i]) - centre) + to_d(d[i])); });
+  for_each_vertex(nv, [&](size_t i) {
+    d[i] = to_float(gain * (to_d(o[i]) - centre) + to_d(d[i]));
+  });
   const auto original = [&](size_t i) { return to_d(o[i]) - centre; };
   const auto smoothed = [&](size_t i) { return to_d(d[i]); };
   Restoration r;
