@@ -9,18 +9,18 @@ namespace {
 
 constexpr float kLargeValue = 1e30f;
 
-Grid crop_grid(const Grid& grid, const Component& c, FieldMargin m) {
+}  // namespace
+
+Grid component_grid(const Grid& grid, const Component& c, FieldMargin m) {
   return grid.crop({c.first[0] - m[0], c.first[1] - m[1], c.first[2] - m[2]},
                    {c.last[0] - c.first[0] + 1 + 2 * m[0], c.last[1] - c.first[1] + 1 + 2 * m[1],
                     c.last[2] - c.first[2] + 1 + 2 * m[2]});
 }
 
-}  // namespace
-
 Volume<uint8_t> component_mask(const Grid& grid, const Components& components,
                                const Component& component, FieldMargin margin) {
   Volume<uint8_t> mask;
-  mask.grid = crop_grid(grid, component, margin);
+  mask.grid = component_grid(grid, component, margin);
   mask.voxels.assign(mask.grid.voxel_count(), 0);
   const int64_t x0 = component.first[0] - margin[0], y0 = component.first[1] - margin[1],
                 z0 = component.first[2] - margin[2];
@@ -36,7 +36,7 @@ Volume<float> component_values(const Volume<T>& volume, const Components& compon
                                const Component& component, double iso, float background,
                                FieldMargin margin) {
   Volume<float> field;
-  field.grid = crop_grid(volume.grid, component, margin);
+  field.grid = component_grid(volume.grid, component, margin);
   field.voxels.assign(field.grid.voxel_count(), background);
   const float below = std::nextafter(static_cast<float>(iso), -std::numeric_limits<float>::infinity());
   const auto& d = volume.grid.dims;

@@ -21,6 +21,10 @@ inline constexpr int kFieldMargin = 2;
 using FieldMargin = std::array<int64_t, 3>;
 inline constexpr FieldMargin kDefaultFieldMargin{kFieldMargin, kFieldMargin, kFieldMargin};
 
+// The volume's grid moved to the component's bounding box grown by `margin`.
+Grid component_grid(const Grid& grid, const Component& component,
+                    FieldMargin margin = kDefaultFieldMargin);
+
 // 1 inside the component, 0 elsewhere (other components and other labels included).
 Volume<uint8_t> component_mask(const Grid& grid, const Components& components,
                                const Component& component,

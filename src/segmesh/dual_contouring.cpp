@@ -5,9 +5,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
+#include <bit>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -16,14 +17,13 @@
 #include <vector>
 
 #include "segmesh/component_field.hpp"
+#include "segmesh/dual_contouring_simplify.hpp"
 #include "segmesh/dual_contouring_table.hpp"
 #include "segmesh/edge_intersection.hpp"
 #include "segmesh/error.hpp"
+#include "segmesh/inside_bits.hpp"
 #include "segmesh/marching_cubes_table.hpp"
 #include "segmesh/qef.hpp"
-#include "segmesh/row_trim.hpp"
-#include "segmesh/run_scan.hpp"
-#include "segmesh/dual_contouring_simplify.hpp"
 #include "segmesh/quality.hpp"
 
 namespace segmesh {
@@ -125,13 +125,6 @@ inline float sides_ratio(float a, float b, float c) {
   const float abc = a * b * c;
   return f > 0 && abc > 0 ? f / abc : 0.0f;
 }
-
-// One non-trivial cell in its row's list: x, Marching Cubes case, first sheet vertex.
-struct RowCell {
-  int32_t x = 0;
-  uint8_t cs = 0;
-  uint32_t first_vertex = 0;
-};
 
 // The Hermite data of a cell's cut edges, relative to the cell: crossing in millimetres from the
 // cell's first corner (before the grid's rotation), unit outward normal in the same frame.
@@ -246,50 +239,101 @@ class NeighbourhoodFront {
   std::vector<SheetVertices> values_;
 };
 
-// Dual Contouring row by row, in the manner of marching_cubes.cpp. Cells live in rows (j, k),
-// index k * cy + j; each row's non-trivial cells form a list (x, case, first sheet vertex).
-// Vertex ids follow the rows, the cells of a row in x order and the sheets of a cell in order;
-// every cut edge's polygon is emitted by the cell that has the edge as its edge 3, 7 or 11 (the
-// cell at the edge's lower corner on the two other axes), so the triangles follow the rows too.
-// Passes, each parallel over rows: count cells and sheets; fill the lists; sheet vertices (QEF);
-// count polygons; emit polygons. Prefix sums between them; the output is the same for any thread
-// count.
-// The non-trivial cells of a part's mask (margin 2) from the part's runs (run_scan.hpp, margin 1):
-// mask cell (i, j, k) is the scan's cell (i - 1, j - 1, k - 1).
-struct RunCells {
-  const RunScan& scan;
-  template <class Visit>
-  void cells(int64_t j, int64_t k, Visit&& visit) const {
-    if (j < 1 || k < 1) return;
-    scan.cells(j - 1, k - 1, [&](int64_t i, int cs) { visit(i + 1, cs); });
-  }
+// A cell around a cut edge as polygon() needs it: its first sheet vertex and its case, or
+// kOneSheet for a cell known to hold a single sheet (whose vertex is then its first).
+constexpr int kOneSheet = -1;
+struct CellRef {
+  int cs = kOneSheet;
+  uint32_t first_vertex = 0;
 };
 
-template <class T, class Cells>
+// One word of a row of cells: the non-trivial cells among 64 consecutive ones, and the rare ones
+// among those (not exactly one sheet, or several sheets around one edge): only next to a rare
+// cell can a polygon have more than four vertices, and only after one in its row are the cells
+// numbered past extra sheets.
+struct CellWord {
+  uint64_t cells = 0;
+  uint64_t rare = 0;
+};
+
+// The eight corner words of one word of cells between rows a = (j, k), b = (j + 1, k),
+// c = (j, k + 1), d = (j + 1, k + 1) of inside bits: bit x of v[2 r] is the left corner of cell x
+// on row r, bit x of v[2 r + 1] its right corner; so the Marching Cubes case of cell x takes bit x
+// of v[n] as its corner n (marching_cubes_table.hpp numbering).
+struct CornerWords {
+  uint64_t v[8];
+  CornerWords(const uint64_t* a, const uint64_t* b, const uint64_t* c, const uint64_t* d, int64_t w) {
+    const uint64_t* rows[4] = {a, b, c, d};
+    for (int r = 0; r < 4; ++r) {
+      v[2 * r] = rows[r][w];
+      v[2 * r + 1] = shifted_word(rows[r], w);
+    }
+  }
+  // The cells whose corners are not all inside or all outside.
+  uint64_t nontrivial() const {
+    uint64_t any = 0, all = ~uint64_t{0};
+    for (uint64_t x : v) any |= x, all &= x;
+    return any & ~all;
+  }
+  int case_of(int b) const {
+    int cs = 0;
+    for (int n = 0; n < 8; ++n) cs |= int(v[n] >> b & 1) << n;
+    return cs;
+  }
+  // The edges every cell owns (its edges 3, 7 and 11, at its corner 7): cut when corner 7
+  // differs from corner 6, 5 or 3.
+  uint64_t cut3() const { return v[6] ^ v[7]; }
+  uint64_t cut7() const { return v[5] ^ v[7]; }
+  uint64_t cut11() const { return v[3] ^ v[7]; }
+};
+
+// Dual Contouring on a field's inside bits (inside_bits.hpp), in the manner of marching_cubes.cpp.
+// Cells live in rows (j, k), index k * cy + j, and within a row in words of 64 cells. Vertex ids
+// follow the rows, the cells of a row in x order and the sheets of a cell in order; every cut
+// edge's polygon is emitted by the cell that has the edge as its edge 3, 7 or 11 (the cell at the
+// edge's lower corner on the two other axes), so the triangles follow the rows too. Passes, each
+// parallel over rows, prefix sums between them, the output the same for any thread count:
+//   1. per word of cells, the non-trivial and the rare cells; per row, the sheets;
+//   2. per row, the triangles and centroid vertices of the polygons it owns: two per cut edge
+//      (a quad), except next to a rare cell, where the polygon is built and priced;
+//   3. the sheet vertices (QEF);
+//   4. the polygons. A cell's first vertex is its row's first plus the sheets before it, a popcount
+//      within its word (plus the extra sheets of rare cells before it), so no list of cells is
+//      ever stored.
+// `field` is the field itself, or nullptr for a component's bits (its cells are then all at least
+// two grid points from the border, and their Hermite data come from their neighbourhood's bits).
+template <class T>
 class Extractor {
  public:
-  // `cells` lists the non-trivial cells of `field` row by row; `binary`: the field is known to be
-  // 0/1 (a part's mask), so the neighbourhood cache may serve it.
-  Extractor(const Volume<T>& field, const Cells& cells, bool binary, const DcOptions& options,
-            Progress& progress)
+  Extractor(const Volume<T>* field, const InsideBits& bits, const Grid& grid, bool binary,
+            const DcOptions& options, Progress& progress)
       : f_(field),
-        cell_source_(cells),
-        inside_(options.iso),
+        bits_(bits),
+        grid_(grid),
         binary_(binary && options.tolerance_mm == 0),
+        normals_(options.vertex_normals || options.tolerance_mm > 0),
         o_(options),
         table_(dc_table(options.connectivity)),
         progress_(progress),
-        nx_(field.grid.dims[0]),
-        ny_(field.grid.dims[1]),
-        nz_(field.grid.dims[2]),
+        nx_(bits.dims[0]),
+        ny_(bits.dims[1]),
+        nz_(bits.dims[2]),
         cx_(nx_ - 1),
         cy_(ny_ - 1),
-        cz_(nz_ - 1) {}
+        cz_(nz_ - 1),
+        cw_((cx_ + 63) / 64) {
+    for (int cs = 0; cs < 256; ++cs) {
+      const DcCase& dc = table_.cases[static_cast<size_t>(cs)];
+      bool rare = dc.piece_count != 1;
+      for (int e = 0; e < 12; ++e) rare = rare || dc.around_count[e] > 1;
+      rare_[static_cast<size_t>(cs)] = rare;
+    }
+  }
 
   TriMesh run() {
     TriMesh mesh;
     if (nx_ < 2 || ny_ < 2 || nz_ < 2) return mesh;
-    list_cells();
+    count_cells();
     const uint64_t sheets = vertex_first_.back();
     count_polygons();
     const uint64_t vertices = sheets + extra_first_.back();
@@ -298,15 +342,15 @@ class Extractor {
                   "crop the volume or select fewer labels");
     }
     mesh.positions.resize(vertices);
-    mesh.normals.resize(vertices);
+    if (normals_) mesh.normals.resize(vertices);
     mesh.indices.resize(3 * triangle_first_.back());
     if (o_.tolerance_mm > 0) qefs_.resize(sheets);
     emit_vertices(mesh);
     emit_polygons(mesh);
     if (o_.tolerance_mm > 0) {
       DcCells cells{{cx_, cy_, cz_}, surface_cells(), &qefs_,
-                    [this](int64_t i, int64_t j, int64_t k) { return inside_(f_.at(i, j, k)); }};
-      mesh = simplify_dual_contour(std::move(mesh), cells, f_.grid, o_);
+                    [this](int64_t i, int64_t j, int64_t k) { return bits_.at(i, j, k); }};
+      mesh = simplify_dual_contour(std::move(mesh), cells, grid_, o_);
     }
     return mesh;
   }
@@ -314,8 +358,21 @@ class Extractor {
  private:
   int64_t rows() const { return cy_ * cz_; }
   size_t row_index(int64_t j, int64_t k) const { return static_cast<size_t>(k * cy_ + j); }
+  const CellWord* words(int64_t j, int64_t k) const { return words_.data() + row_index(j, k) * size_t(cw_); }
+  CornerWords corners(int64_t j, int64_t k, int64_t w) const {
+    return {bits_.row(j, k), bits_.row(j + 1, k), bits_.row(j, k + 1), bits_.row(j + 1, k + 1), w};
+  }
+  // The cells of word w that exist (x < cx).
+  uint64_t valid(int64_t w) const {
+    const int64_t n = cx_ - 64 * w;
+    return n >= 64 ? ~uint64_t{0} : (uint64_t{1} << n) - 1;
+  }
+  int case_at(int64_t x, int64_t j, int64_t k) const {
+    return int(bit_pair(bits_.row(j, k), x) | bit_pair(bits_.row(j + 1, k), x) << 2 |
+               bit_pair(bits_.row(j, k + 1), x) << 4 | bit_pair(bits_.row(j + 1, k + 1), x) << 6);
+  }
+  int pieces(int cs) const { return table_.cases[static_cast<size_t>(cs)].piece_count; }
 
-  // Pass 1 and 2: the non-trivial cells of every row, with their first sheet vertex.
   // Two counts per row, count(j, k, a, b) adding to a and b, in parallel over rows; then their
   // prefix sums into first_a and first_b (rows + 1 entries: where each row's share starts).
   template <class Count>
@@ -334,32 +391,151 @@ class Extractor {
     }
   }
 
-  void list_cells() {
-    count_rows(cell_first_, vertex_first_, [&](int64_t j, int64_t k, uint64_t& cells, uint64_t& sheets) {
-      cell_source_.cells(j, k, [&](int64_t, int cs) {
-        ++cells;
-        sheets += table_.cases[cs].piece_count;
-      });
-    });
-    cells_.resize(cell_first_.back());
-    tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 64), [&](const auto& range) {
-      throw_if_cancelled(progress_);
-      for (int64_t r = range.begin(); r < range.end(); ++r) {
-        RowCell* out = cells_.data() + cell_first_[size_t(r)];
-        uint32_t id = static_cast<uint32_t>(vertex_first_[size_t(r)]);
-        cell_source_.cells(r % cy_, r / cy_, [&](int64_t i, int cs) {
-          *out++ = {static_cast<int32_t>(i), static_cast<uint8_t>(cs), id};
-          id += table_.cases[cs].piece_count;
-        });
+  // Pass 1: the cell words, each row's sheets (into vertex_first_) and whether it has rare cells.
+  void count_cells() {
+    words_.resize(static_cast<size_t>(rows() * cw_));
+    row_rare_.assign(static_cast<size_t>(rows()), 0);
+    std::vector<uint64_t> unused;
+    count_rows(vertex_first_, unused, [&](int64_t j, int64_t k, uint64_t& sheets, uint64_t&) {
+      CellWord* out = words_.data() + row_index(j, k) * size_t(cw_);
+      uint64_t rare_any = 0;
+      for (int64_t w = 0; w < cw_; ++w) {
+        const CornerWords c = corners(j, k, w);
+        CellWord cw{c.nontrivial() & valid(w), 0};
+        sheets += uint64_t(std::popcount(cw.cells));
+        for (uint64_t m = cw.cells; m != 0; m &= m - 1) {
+          const int b = std::countr_zero(m);
+          const int cs = c.case_of(b);
+          if (rare_[static_cast<size_t>(cs)]) {
+            cw.rare |= uint64_t{1} << b;
+            sheets += uint64_t(pieces(cs)) - 1;
+          }
+        }
+        rare_any |= cw.rare;
+        out[w] = cw;
       }
+      row_rare_[row_index(j, k)] = rare_any != 0;
     });
   }
 
-  const RowCell* row_begin(int64_t j, int64_t k) const {
-    return cells_.data() + cell_first_[row_index(j, k)];
+  // The sheets of the cells of row (j, k)'s word w in `mask`.
+  uint32_t sheets_in(int64_t j, int64_t k, int64_t w, uint64_t mask) const {
+    const CellWord& cw = words(j, k)[w];
+    uint32_t n = static_cast<uint32_t>(std::popcount(cw.cells & mask));
+    for (uint64_t m = cw.rare & mask; m != 0; m &= m - 1) {
+      n += static_cast<uint32_t>(pieces(case_at(64 * w + std::countr_zero(m), j, k))) - 1;
+    }
+    return n;
   }
-  const RowCell* row_end(int64_t j, int64_t k) const {
-    return cells_.data() + cell_first_[row_index(j, k) + 1];
+
+  // The four rows of cells around the edges row (j, k) owns — (j, k), (j + 1, k), (j, k + 1),
+  // (j + 1, k + 1), as quadrant rows 0 .. 3 — walked word by word: the cells' words and the
+  // first vertex of each row's current word.
+  struct RowQuad {
+    int64_t j, k;
+    bool exists[4];
+    uint32_t first[4];  // first vertex of word w of each row
+    CellWord word[4], next[4];  // words w and w + 1 (zero where absent)
+  };
+
+  RowQuad row_quad(int64_t j, int64_t k) const {
+    RowQuad q{j, k, {}, {}, {}, {}};
+    for (int r = 0; r < 4; ++r) {
+      const int64_t jr = j + (r & 1), kr = k + (r >> 1);
+      q.exists[r] = jr < cy_ && kr < cz_;
+      q.first[r] = q.exists[r] ? static_cast<uint32_t>(vertex_first_[row_index(jr, kr)]) : 0;
+    }
+    return q;
+  }
+  void load_words(RowQuad& q, int64_t w) const {
+    for (int r = 0; r < 4; ++r) {
+      if (!q.exists[r]) continue;
+      const CellWord* row = words(q.j + (r & 1), q.k + (r >> 1));
+      q.word[r] = row[w];
+      q.next[r] = w + 1 < cw_ ? row[w + 1] : CellWord{};
+    }
+  }
+  void advance(RowQuad& q, int64_t w) const {
+    for (int r = 0; r < 4; ++r) {
+      if (q.exists[r]) q.first[r] += sheets_in(q.j + (r & 1), q.k + (r >> 1), w, ~uint64_t{0});
+    }
+  }
+
+  // Cell b (0 .. 64: 64 is bit 0 of the next word) of word w of quadrant row r, as polygon()
+  // needs it; throws when absent (a cut edge without its four cells: the field is not padded).
+  CellRef cell(const RowQuad& q, int r, int64_t w, int b) const {
+    const int64_t jr = q.j + (r & 1), kr = q.k + (r >> 1);
+    const bool present = q.exists[r] && (b < 64 ? q.word[r].cells >> b & 1 : q.next[r].cells & 1);
+    if (!present) throw std::logic_error("dual contouring: a cut edge without its four cells");
+    const uint64_t below = b < 64 ? (uint64_t{1} << b) - 1 : ~uint64_t{0};
+    CellRef c;
+    c.first_vertex = q.first[r] + (q.word[r].rare & below ? sheets_in(jr, kr, w, below)
+                                                         : static_cast<uint32_t>(std::popcount(q.word[r].cells & below)));
+    if (b < 64 ? q.word[r].rare >> b & 1 : q.next[r].rare & 1) c.cs = case_at(64 * w + b, jr, kr);
+    return c;
+  }
+
+  // Calls visit(axis, quadrant cells, inside at the edge's start) for every cut edge row (j, k)
+  // owns, in the order of the cells (x ascending) and, per cell, of its edges 3, 7 and 11. The
+  // quadrant cells are the four cells around the edge in polygon() order (kQuadrantDu /
+  // kQuadrantDv). With `rare_only`, only the edges next to a rare cell are visited.
+  template <class Visit>
+  void owned_edges(int64_t j, int64_t k, bool rare_only, Visit&& visit) const {
+    RowQuad q = row_quad(j, k);
+    for (int64_t w = 0; w < cw_; ++w) {
+      load_words(q, w);
+      const uint64_t cells = q.word[0].cells;
+      if (cells == 0) {
+        advance(q, w);
+        continue;
+      }
+      const CornerWords c = corners(j, k, w);
+      uint64_t e3 = c.cut3() & cells, e7 = c.cut7() & cells, e11 = c.cut11() & cells;
+      if (rare_only) {
+        auto right = [&](int r) { return (q.word[r].rare >> 1) | (q.next[r].rare << 63); };
+        const uint64_t r0 = q.word[0].rare, r1 = q.word[1].rare, r2 = q.word[2].rare, r3 = q.word[3].rare;
+        e3 &= r0 | r1 | r2 | r3;
+        e7 &= r0 | r2 | right(0) | right(2);
+        e11 &= r0 | r1 | right(0) | right(1);
+      }
+      uint64_t rare = 0;
+      for (int r = 0; r < 4; ++r) rare |= q.word[r].rare | (q.next[r].rare & 1);
+      if (rare == 0 && !rare_only) {
+        // No rare cell: every cell around the edges holds one sheet, numbered by a popcount
+        // (count_polygons has checked that all four exist).
+        auto id = [&](int r, int b) {
+          const uint64_t below = b < 64 ? (uint64_t{1} << b) - 1 : ~uint64_t{0};
+          return CellRef{kOneSheet, q.first[r] + static_cast<uint32_t>(std::popcount(q.word[r].cells & below))};
+        };
+        for (uint64_t m = e3 | e7 | e11; m != 0; m &= m - 1) {
+          const int b = std::countr_zero(m);
+          const uint64_t bit = uint64_t{1} << b;
+          const CellRef c0 = id(0, b);
+          if (e3 & bit) visit(0, std::array<CellRef, 4>{id(1, b), id(3, b), id(2, b), c0}, (c.v[6] & bit) != 0);
+          if (e7 & bit) visit(1, std::array<CellRef, 4>{id(2, b), id(2, b + 1), id(0, b + 1), c0}, (c.v[5] & bit) != 0);
+          if (e11 & bit) visit(2, std::array<CellRef, 4>{id(0, b + 1), id(1, b + 1), id(1, b), c0}, (c.v[3] & bit) != 0);
+        }
+        advance(q, w);
+        continue;
+      }
+      for (uint64_t m = e3 | e7 | e11; m != 0; m &= m - 1) {
+        const int b = std::countr_zero(m);
+        const uint64_t bit = uint64_t{1} << b;
+        if (e3 & bit) {
+          visit(0, std::array<CellRef, 4>{cell(q, 1, w, b), cell(q, 3, w, b), cell(q, 2, w, b), cell(q, 0, w, b)},
+                (c.v[6] & bit) != 0);
+        }
+        if (e7 & bit) {
+          visit(1, std::array<CellRef, 4>{cell(q, 2, w, b), cell(q, 2, w, b + 1), cell(q, 0, w, b + 1), cell(q, 0, w, b)},
+                (c.v[5] & bit) != 0);
+        }
+        if (e11 & bit) {
+          visit(2, std::array<CellRef, 4>{cell(q, 0, w, b + 1), cell(q, 1, w, b + 1), cell(q, 1, w, b), cell(q, 0, w, b)},
+                (c.v[3] & bit) != 0);
+        }
+      }
+      advance(q, w);
+    }
   }
 
   // Keeps a QEF solution x inside its cell, shrunk by kDcCellMargin so that vertices of
@@ -367,7 +543,7 @@ class Extractor {
   // in the cell, each stays in the box of its own crossings as far as that box reaches into the
   // cell.
   Vec3d keep_in_cell(Vec3d x, Vec3d m, Vec3d sheet_lo, Vec3d sheet_hi, bool several) const {
-    const auto& s = f_.grid.spacing;
+    const auto& s = grid_.spacing;
     double lo[3], hi[3];
     const double slo[3] = {sheet_lo.x, sheet_lo.y, sheet_lo.z}, shi[3] = {sheet_hi.x, sheet_hi.y, sheet_hi.z};
     for (int a = 0; a < 3; ++a) {
@@ -381,16 +557,17 @@ class Extractor {
     return keep_in_box(x, m, {lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]});
   }
 
-  // The Hermite data of the cut edges of cell (i, j, k) with case cs.
-  CellHermite cell_hermite(int64_t i, int64_t j, int64_t k, int cs) const {
-    const auto& s = f_.grid.spacing;
+  // The Hermite data of the cut edges of cell (i, j, k) of field f with case cs.
+  template <class F>
+  CellHermite cell_hermite(const Volume<F>& f, int64_t i, int64_t j, int64_t k, int cs) const {
+    const auto& s = grid_.spacing;
     CellHermite h;
     for (int e = 0; e < 12; ++e) {
       const int c0 = kMcEdgeCorner[e][0];
       if ((cs >> c0 & 1) == (cs >> kMcEdgeCorner[e][1] & 1)) continue;
       const int axis = e / 4;
       const int64_t gi = i + (c0 & 1), gj = j + (c0 >> 1 & 1), gk = k + (c0 >> 2);
-      const EdgeCrossing c = edge_crossing(f_, gi, gj, gk, axis, o_.iso, o_.normals);
+      const EdgeCrossing c = edge_crossing(f, gi, gj, gk, axis, o_.iso, o_.normals);
       h.point[e] = {(c.index_point.x - double(i)) * s[0], (c.index_point.y - double(j)) * s[1],
                     (c.index_point.z - double(k)) * s[2]};
       Vec3d n{-c.index_gradient.x / s[0], -c.index_gradient.y / s[1], -c.index_gradient.z / s[2]};
@@ -405,12 +582,13 @@ class Extractor {
     return h;
   }
 
-  // The QEF vertices of every sheet of a cell, relative to the cell; the QEFs into `qefs` when
-  // given (simplification).
-  CellVertices solve_cell(int64_t i, int64_t j, int64_t k, int cs, Qef* qefs) const {
-    const auto& s = f_.grid.spacing;
-    const DcCase& dc = table_.cases[cs];
-    const CellHermite h = cell_hermite(i, j, k, cs);
+  // The QEF vertices of every sheet of cell (i, j, k) of field f, relative to the cell; the QEFs
+  // into `qefs` when given (simplification).
+  template <class F>
+  CellVertices solve_cell(const Volume<F>& f, int64_t i, int64_t j, int64_t k, int cs, Qef* qefs) const {
+    const auto& s = grid_.spacing;
+    const DcCase& dc = table_.cases[static_cast<size_t>(cs)];
+    const CellHermite h = cell_hermite(f, i, j, k, cs);
     CellVertices out;
     for (int piece = 0; piece < dc.piece_count; ++piece) {
       Qef qef;
@@ -431,7 +609,7 @@ class Extractor {
       const Vec3d target = dc.piece_count > 1 ? qef.mass_point() : solve_qef(qef, o_.svd_eps).position;
       const Vec3d p = keep_in_cell(target, qef.mass_point(), lo, hi, dc.piece_count > 1);
       out.offset[piece] = {p.x / s[0], p.y / s[1], p.z / s[2]};
-      const Vec3d wn = f_.grid.direction * normal_sum;
+      const Vec3d wn = grid_.direction * normal_sum;
       const double wl = norm(wn);
       out.normal[piece] = wl > 0 ? to_float((1.0 / wl) * wn) : Vec3f{0, 0, 1};
       if (qefs) qefs[piece] = qef;
@@ -439,73 +617,91 @@ class Extractor {
     return out;
   }
 
+  // The sheets of a binary cell from its neighbourhood key (below): the cell is solved in a
+  // 4 x 4 x 4 field holding the key, which gives exactly what the whole field gives, as every
+  // gradient of the cell's corners reads only those points.
+  CellVertices solve_key(uint64_t key, int cs, Qef* qefs) const {
+    Volume<uint8_t> local;
+    local.grid = grid_;
+    local.grid.dims = {4, 4, 4};
+    local.voxels.resize(64);
+    for (int n = 0; n < 64; ++n) local.voxels[static_cast<size_t>(n)] = uint8_t(key >> n & 1);
+    return solve_cell(local, 1, 1, 1, cs, qefs);
+  }
+
   // The 4 x 4 x 4 grid points around cell (i, j, k) (offsets -1 .. 2), bit (x + 4 y + 16 z) set
-  // when inside; coordinates clamped to the field as the gradients clamp them. Never 0 for a
-  // non-trivial cell.
-  uint64_t neighbourhood(int64_t i, int64_t j, int64_t k) const {
+  // when inside, for a cell at least one point from the border: `rows` are the rows (j - 1 + y,
+  // k - 1 + z) at y + 4 z. Never 0 for a non-trivial cell.
+  static uint64_t neighbourhood(const uint64_t* const* rows, int64_t i) {
     uint64_t key = 0;
-    const bool interior = i >= 1 && j >= 1 && k >= 1 && i + 2 < nx_ && j + 2 < ny_ && k + 2 < nz_;
-    for (int z = 0; z < 4; ++z) {
-      const int64_t gk = std::clamp<int64_t>(k + z - 1, 0, nz_ - 1);
-      for (int y = 0; y < 4; ++y) {
-        const int64_t gj = std::clamp<int64_t>(j + y - 1, 0, ny_ - 1);
-        const T* row = f_.voxels.data() + static_cast<size_t>((gk * ny_ + gj) * nx_);
-        uint64_t bits = 0;
-        if (interior) {
-          // Four 0/1 bytes to four bits: the multiply moves byte b's bit to bit 21 + b.
-          uint32_t w;
-          std::memcpy(&w, row + i - 1, 4);
-          bits = (uint64_t{w} * 0x204081u) >> 21 & 0xf;
-        } else {
-          for (int x = 0; x < 4; ++x) {
-            bits |= uint64_t(row[std::clamp<int64_t>(i + x - 1, 0, nx_ - 1)] != 0) << x;
-          }
-        }
-        key |= bits << (4 * y + 16 * z);
-      }
-    }
+    for (int n = 0; n < 16; ++n) key |= uint64_t{bit_nibble(rows[n], i - 1)} << (4 * n);
     return key;
+  }
+  bool interior(int64_t i, int64_t j, int64_t k) const {
+    return i >= 1 && j >= 1 && k >= 1 && i + 2 < nx_ && j + 2 < ny_ && k + 2 < nz_;
   }
 
   // Pass 3: the sheet vertices.
   void emit_vertices(TriMesh& mesh) {
     std::atomic<int64_t> rows_done{0};
     std::optional<NeighbourhoodCache> cache;
-    if (binary_) cache.emplace(cells_.size());
+    if (binary_) cache.emplace(static_cast<size_t>(vertex_first_.back()));
     tbb::enumerable_thread_specific<NeighbourhoodFront> fronts;  // made on first use per thread
     tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 16), [&](const auto& range) {
       throw_if_cancelled(progress_);
       NeighbourhoodFront* front = cache ? &fronts.local() : nullptr;
       for (int64_t r = range.begin(); r < range.end(); ++r) {
         const int64_t j = r % cy_, k = r / cy_;
-        for (const RowCell* c = row_begin(j, k); c != row_end(j, k); ++c) {
-          const int pieces = table_.cases[c->cs].piece_count;
-          if (pieces == 0) continue;
-          auto emit = [&](int piece, const double* d, Vec3f normal) {
-            mesh.positions[c->first_vertex + piece] =
-                to_float(f_.grid.to_world({double(c->x) + d[0], double(j) + d[1], double(k) + d[2]}));
-            mesh.normals[c->first_vertex + piece] = normal;
-          };
-          if (cache && pieces <= SheetVertices::kPieces) {
-            const SheetVertices& v = front->get(neighbourhood(c->x, j, k), *cache, [&](SheetVertices& out) {
-              const CellVertices full = solve_cell(c->x, j, k, c->cs, nullptr);
-              for (int p = 0; p < pieces; ++p) {
-                out.offset[p][0] = full.offset[p].x, out.offset[p][1] = full.offset[p].y;
-                out.offset[p][2] = full.offset[p].z;
-                out.normal[p][0] = full.normal[p].x, out.normal[p][1] = full.normal[p].y;
-                out.normal[p][2] = full.normal[p].z;
+        const bool rows_inside = j >= 1 && k >= 1 && j + 2 < ny_ && k + 2 < nz_;
+        const uint64_t* around[16];
+        if (rows_inside) {
+          for (int n = 0; n < 16; ++n) around[n] = bits_.row(j - 1 + (n & 3), k - 1 + (n >> 2));
+        }
+        uint32_t id = static_cast<uint32_t>(vertex_first_[size_t(r)]);
+        const CellWord* row = words(j, k);
+        for (int64_t w = 0; w < cw_; ++w) {
+          if (row[w].cells == 0) continue;
+          const CornerWords c = corners(j, k, w);
+          for (uint64_t m = row[w].cells; m != 0; m &= m - 1) {
+            const int b = std::countr_zero(m);
+            const int64_t x = 64 * w + b;
+            const int cs = c.case_of(b);
+            const int n = pieces(cs);
+            auto emit = [&](int piece, const double* d, const float* normal) {
+              mesh.positions[id + piece] =
+                  to_float(grid_.to_world({double(x) + d[0], double(j) + d[1], double(k) + d[2]}));
+              if (normals_) mesh.normals[id + piece] = {normal[0], normal[1], normal[2]};
+            };
+            auto emit_all = [&](const CellVertices& v) {
+              for (int p = 0; p < n; ++p) {
+                const double d[3] = {v.offset[p].x, v.offset[p].y, v.offset[p].z};
+                const float nn[3] = {v.normal[p].x, v.normal[p].y, v.normal[p].z};
+                emit(p, d, nn);
               }
-            });
-            for (int p = 0; p < pieces; ++p) {
-              emit(p, v.offset[p], {v.normal[p][0], v.normal[p][1], v.normal[p][2]});
+            };
+            Qef* qefs = qefs_.empty() ? nullptr : &qefs_[id];
+            const bool keyed = rows_inside && x >= 1 && x + 2 < nx_;
+            if (!keyed) {
+              if (f_ == nullptr) throw std::logic_error("dual contouring: a part's cell at its border");
+              emit_all(solve_cell(*f_, x, j, k, cs, qefs));
+            } else if (cache && n <= SheetVertices::kPieces) {
+              const uint64_t key = neighbourhood(around, x);
+              const SheetVertices& v = front->get(key, *cache, [&](SheetVertices& out) {
+                const CellVertices full = solve_key(key, cs, nullptr);
+                for (int p = 0; p < n; ++p) {
+                  out.offset[p][0] = full.offset[p].x, out.offset[p][1] = full.offset[p].y;
+                  out.offset[p][2] = full.offset[p].z;
+                  out.normal[p][0] = full.normal[p].x, out.normal[p][1] = full.normal[p].y;
+                  out.normal[p][2] = full.normal[p].z;
+                }
+              });
+              for (int p = 0; p < n; ++p) emit(p, v.offset[p], v.normal[p]);
+            } else if (f_ != nullptr) {
+              emit_all(solve_cell(*f_, x, j, k, cs, qefs));
+            } else {
+              emit_all(solve_key(neighbourhood(around, x), cs, qefs));
             }
-          } else {
-            const CellVertices full =
-                solve_cell(c->x, j, k, c->cs, qefs_.empty() ? nullptr : &qefs_[c->first_vertex]);
-            for (int p = 0; p < pieces; ++p) {
-              const double d[3] = {full.offset[p].x, full.offset[p].y, full.offset[p].z};
-              emit(p, d, full.normal[p]);
-            }
+            id += static_cast<uint32_t>(n);
           }
         }
       }
@@ -513,95 +709,29 @@ class Extractor {
     });
   }
 
-  static const RowCell* right_neighbour(const RowCell* c, const RowCell* end) {
-    return c != nullptr && c + 1 != end && c[1].x == c->x + 1 ? c + 1 : nullptr;
-  }
-
-  // The cells at x and x + 1 of one row's list, found by a cursor that only moves forwards.
-  class RowCursor {
-   public:
-    RowCursor(const RowCell* begin, const RowCell* end) : at_(begin), end_(end) {}
-    // The cell at x (x never decreases between calls), or nullptr.
-    const RowCell* at(int64_t x) {
-      while (at_ != end_ && at_->x < x) ++at_;
-      return at_ != end_ && at_->x == x ? at_ : nullptr;
-    }
-    // The cell after c in the row when it is its neighbour at c->x + 1, or nullptr (also for
-    // c == nullptr: an edge that needs both is then not cut, and polygon() reports it).
-    const RowCell* right_of(const RowCell* c) const { return right_neighbour(c, end_); }
-
-   private:
-    const RowCell* at_;
-    const RowCell* end_;
-  };
-
-  // Calls visit(axis, quadrant cells, inside at the edge's start) for every cut edge the cells of
-  // row (j, k) own: edge 3 (along x), 7 (along y) and 11 (along z) of each cell. The quadrant
-  // cells are the four cells around the edge in polygon() order (kQuadrantDu / kQuadrantDv).
-  template <class Visit>
-  void owned_edges(int64_t j, int64_t k, Visit&& visit) const {
-    const bool up = j + 1 < cy_, far = k + 1 < cz_;
-    RowCursor r10(up ? row_begin(j + 1, k) : nullptr, up ? row_end(j + 1, k) : nullptr);
-    RowCursor r01(far ? row_begin(j, k + 1) : nullptr, far ? row_end(j, k + 1) : nullptr);
-    RowCursor r11(up && far ? row_begin(j + 1, k + 1) : nullptr, up && far ? row_end(j + 1, k + 1) : nullptr);
-    const RowCell* end = row_end(j, k);
-    for (const RowCell* c = row_begin(j, k); c != end; ++c) {
-      const int cs = c->cs;
-      const int64_t x = c->x;
-      const bool cut3 = (cs >> 6 & 1) != (cs >> 7 & 1);   // corners 6, 7
-      const bool cut7 = (cs >> 5 & 1) != (cs >> 7 & 1);   // corners 5, 7
-      const bool cut11 = (cs >> 3 & 1) != (cs >> 7 & 1);  // corners 3, 7
-      if (!cut3 && !cut7 && !cut11) continue;
-      const RowCell* a10 = r10.at(x);
-      const RowCell* a01 = r01.at(x);
-      const RowCell* a11 = r11.at(x);
-      const RowCell* right = right_neighbour(c, end);
-      if (cut3) visit(0, std::array<const RowCell*, 4>{a10, a11, a01, c}, (cs >> 6 & 1) != 0);
-      if (cut7) {
-        visit(1, std::array<const RowCell*, 4>{a01, r01.right_of(a01), right, c},
-              (cs >> 5 & 1) != 0);
-      }
-      if (cut11) {
-        visit(2, std::array<const RowCell*, 4>{right, r10.right_of(a10), a10, c},
-              (cs >> 3 & 1) != 0);
-      }
-    }
-  }
-
-  // Quadrant q's cell around a cut edge: it exists, as every cell around a cut edge is
-  // non-trivial.
-  static const RowCell& quadrant_cell(const std::array<const RowCell*, 4>& quadrant, int q) {
-    if (quadrant[q] == nullptr) throw std::logic_error("dual contouring: a cut edge without its four cells");
-    return *quadrant[q];
-  }
-
-  // The number of sheets around an edge along `axis`: its polygon's size.
-  int polygon_size(int axis, const std::array<const RowCell*, 4>& quadrant) const {
-    int size = 0;
-    for (int q = 0; q < 4; ++q) {
-      size += table_.cases[quadrant_cell(quadrant, q).cs].around_count[local_edge(axis, -kQuadrantDu[q], -kQuadrantDv[q])];
-    }
-    return size;
-  }
-
-  // The polygon of the sheets around an edge along `axis` from its four cells (all non-trivial,
-  // as every cell around a cut edge is), wound counter-clockwise seen from outside.
-  Polygon polygon(int axis, const std::array<const RowCell*, 4>& quadrant, bool inside_at_start) const {
+  // The polygon of the sheets around an edge along `axis` from its four cells, wound
+  // counter-clockwise seen from outside.
+  Polygon polygon(int axis, const std::array<CellRef, 4>& quadrant, bool inside_at_start) const {
     Polygon p;
     for (int q = 0; q < 4; ++q) {
-      const RowCell* cell = &quadrant_cell(quadrant, q);
-      const DcCase& dc = table_.cases[cell->cs];
+      const CellRef& cell = quadrant[q];
+      if (cell.cs == kOneSheet) {
+        p.vertex[p.n] = cell.first_vertex;
+        p.quadrant[p.n++] = q;
+        continue;
+      }
+      const DcCase& dc = table_.cases[static_cast<size_t>(cell.cs)];
       const int e = local_edge(axis, -kQuadrantDu[q], -kQuadrantDv[q]);
       const int count = dc.around_count[e];
       for (int t = 0; t < count; ++t) {
         const int piece = dc.around[e][kQuadrantForward[q] ? t : count - 1 - t];
-        p.vertex[p.n] = cell->first_vertex + static_cast<uint32_t>(piece);
+        p.vertex[p.n] = cell.first_vertex + static_cast<uint32_t>(piece);
         p.quadrant[p.n++] = q;
       }
     }
     // Counter-clockwise around +axis faces +axis: right when the inside is at the edge's start.
     // A mirrored grid flips every winding once more.
-    if (inside_at_start == f_.grid.mirrored()) {
+    if (inside_at_start == grid_.mirrored()) {
       std::reverse(p.vertex.begin(), p.vertex.begin() + p.n);
       std::reverse(p.quadrant.begin(), p.quadrant.begin() + p.n);
     }
@@ -615,22 +745,39 @@ class Extractor {
     return {uint64_t(p.n), 1};
   }
 
-  // Pass 4: triangles and centroid vertices per row.
+  // Pass 2: triangles and centroid vertices per row: two triangles per owned cut edge, corrected
+  // where a polygon next to a rare cell is not a quad.
   void count_polygons() {
     count_rows(triangle_first_, extra_first_, [&](int64_t j, int64_t k, uint64_t& triangles, uint64_t& extra) {
-      owned_edges(j, k, [&](int axis, const auto& quadrant, bool in) {
-        if (polygon_size(axis, quadrant) == 4) {  // nearly every edge: a quad, two triangles
-          triangles += 2;
-          return;
-        }
+      const CellWord* row = words(j, k);
+      bool missing = j + 1 >= cy_ || k + 1 >= cz_;
+      for (int64_t w = 0; w < cw_; ++w) {
+        if (row[w].cells == 0) continue;
+        const CornerWords c = corners(j, k, w);
+        const uint64_t e3 = c.cut3() & row[w].cells, e7 = c.cut7() & row[w].cells,
+                       e11 = c.cut11() & row[w].cells;
+        triangles += 2 * uint64_t(std::popcount(e3) + std::popcount(e7) + std::popcount(e11));
+        // Edges 7 and 11 of the row's last cell need cells past the row's end.
+        if (w == cw_ - 1 && (e7 | e11) >> ((cx_ - 1) & 63) & 1) missing = true;
+      }
+      if (missing && triangles > 0) {
+        owned_edges(j, k, false, [](int, const auto&, bool) {});  // throws for the cut edge at fault
+      }
+      bool rare = false;
+      for (int r = 0; r < 4; ++r) {
+        const int64_t jr = j + (r & 1), kr = k + (r >> 1);
+        rare = rare || (jr < cy_ && kr < cz_ && row_rare_[row_index(jr, kr)]);
+      }
+      if (!rare) return;
+      owned_edges(j, k, true, [&](int axis, const auto& quadrant, bool in) {
         const auto [t, e] = polygon_cost(polygon(axis, quadrant, in));
-        triangles += t;
+        triangles += t - 2;
         extra += e;
       });
     });
   }
 
-  // Pass 5: the polygons, split into triangles.
+  // Pass 4: the polygons, split into triangles.
   void emit_polygons(TriMesh& mesh) {
     std::atomic<int64_t> rows_done{0};
     const uint64_t sheets = vertex_first_.back();
@@ -638,9 +785,10 @@ class Extractor {
       throw_if_cancelled(progress_);
       std::vector<std::array<int, 3>> tris;
       for (int64_t r = range.begin(); r < range.end(); ++r) {
+        if (triangle_first_[size_t(r) + 1] == triangle_first_[size_t(r)]) continue;
         uint32_t* out = mesh.indices.data() + 3 * triangle_first_[size_t(r)];
         uint32_t extra = static_cast<uint32_t>(sheets + extra_first_[size_t(r)]);
-        owned_edges(r % cy_, r / cy_, [&](int axis, const auto& quadrant, bool in) {
+        owned_edges(r % cy_, r / cy_, false, [&](int axis, const auto& quadrant, bool in) {
           const Polygon p = polygon(axis, quadrant, in);
           auto pos = [&](int a) { return to_double(mesh.positions[p.vertex[a]]); };
           if (p.n == 4) {
@@ -672,11 +820,13 @@ class Extractor {
           Vec3d centre{}, normal{};
           for (int a = 0; a < p.n; ++a) {
             centre = centre + pos(a);
-            normal = normal + to_double(mesh.normals[p.vertex[a]]);
+            if (normals_) normal = normal + to_double(mesh.normals[p.vertex[a]]);
           }
           mesh.positions[extra] = to_float((1.0 / p.n) * centre);
-          const double nl = norm(normal);
-          mesh.normals[extra] = nl > 0 ? to_float((1.0 / nl) * normal) : Vec3f{0, 0, 1};
+          if (normals_) {
+            const double nl = norm(normal);
+            mesh.normals[extra] = nl > 0 ? to_float((1.0 / nl) * normal) : Vec3f{0, 0, 1};
+          }
           for (int a = 0; a < p.n; ++a) {
             out[0] = extra, out[1] = p.vertex[a], out[2] = p.vertex[(a + 1) % p.n];
             out += 3;
@@ -693,24 +843,32 @@ class Extractor {
     std::vector<SurfaceCell> out;
     for (int64_t r = 0; r < rows(); ++r) {
       const int64_t j = r % cy_, k = r / cy_;
-      for (const RowCell* c = row_begin(j, k); c != row_end(j, k); ++c) {
-        if (table_.cases[c->cs].piece_count == 0) continue;
-        out.push_back({c->x, int32_t(j), int32_t(k), c->cs, c->first_vertex});
+      uint32_t id = static_cast<uint32_t>(vertex_first_[size_t(r)]);
+      const CellWord* row = words(j, k);
+      for (int64_t w = 0; w < cw_; ++w) {
+        for (uint64_t m = row[w].cells; m != 0; m &= m - 1) {
+          const int64_t x = 64 * w + std::countr_zero(m);
+          const int cs = case_at(x, j, k);
+          if (pieces(cs) > 0) out.push_back({int32_t(x), int32_t(j), int32_t(k), uint8_t(cs), id});
+          id += static_cast<uint32_t>(pieces(cs));
+        }
       }
     }
     return out;
   }
 
-  const Volume<T>& f_;
-  const Cells& cell_source_;
-  const InsideTest<T> inside_;
+  const Volume<T>* f_;
+  const InsideBits& bits_;
+  const Grid& grid_;
   const bool binary_;
+  const bool normals_;
   const DcOptions& o_;
   const DcTable& table_;
   Progress& progress_;
-  const int64_t nx_, ny_, nz_, cx_, cy_, cz_;
-  std::vector<RowCell> cells_;            // every row's non-trivial cells
-  std::vector<uint64_t> cell_first_;      // per row: its first entry in cells_
+  const int64_t nx_, ny_, nz_, cx_, cy_, cz_, cw_;
+  std::array<bool, 256> rare_{};
+  std::vector<CellWord> words_;           // per row of cells, cw_ words
+  std::vector<uint8_t> row_rare_;         // per row of cells: any rare cell
   std::vector<uint64_t> vertex_first_;    // per row: its first sheet vertex
   std::vector<uint64_t> triangle_first_;  // per row: its first triangle
   std::vector<uint64_t> extra_first_;     // per row: its first centroid vertex (after the sheets)
@@ -736,18 +894,17 @@ template <class T>
 TriMesh dual_contouring(const Volume<T>& field, const DcOptions& options, Progress& progress) {
   const auto& d = field.grid.dims;
   if (d[0] < 2 || d[1] < 2 || d[2] < 2) return {};
-  const TrimmedScan<T> scan(field, InsideTest<T>(options.iso), progress);
-  return Extractor<T, TrimmedScan<T>>(field, scan, is_binary(field, options.iso), options, progress).run();
+  const InsideBits bits = inside_bits(field, options.iso, progress);
+  return Extractor<T>(&field, bits, field.grid, is_binary(field, options.iso), options, progress).run();
 }
 
 TriMesh dual_contouring(const Grid& grid, const Components& components, const Component& component,
                         const DcOptions& options, Progress& progress) {
   DcOptions o = options;
   o.iso = 0.5;
-  const Volume<uint8_t> mask = component_mask(grid, components, component);
-  const RunScan scan(grid, components, component);
-  const RunCells cells{scan};
-  return Extractor<uint8_t, RunCells>(mask, cells, true, o, progress).run();
+  const InsideBits bits = inside_bits(components, component);
+  const Grid part_grid = component_grid(grid, component);
+  return Extractor<uint8_t>(nullptr, bits, part_grid, true, o, progress).run();
 }
 
 template TriMesh dual_contouring(const Volume<uint8_t>&, const DcOptions&, Progress&);

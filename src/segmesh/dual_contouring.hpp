@@ -14,20 +14,23 @@
 //
 // This is the polygon set the octree recursion (cellProc / faceProc / edgeProc) yields over an
 // unsimplified octree — one polygon per minimal sign-changing edge — computed directly on the grid
-// in the manner of marching_cubes.hpp: passes over rows of cells in parallel (list the non-trivial
-// cells, solve their sheets, count then emit the polygons each cell owns), prefix sums between
-// them, disjoint output ranges, identical for any thread count. On a 0/1 field each distinct
-// 4 x 4 x 4 neighbourhood's QEF is solved once (a lock-free cache shared by the threads). Adaptive simplification (`tolerance_mm` > 0)
-// clusters the cells of an octree built over the grid bottom-up: a node's children collapse into
-// one vertex where the merged QEF error stays within the tolerance and Ju et al.'s topology tests
-// hold (one sheet, no sign change hidden at edge, face or cell midpoints), so flat regions get
-// fewer, larger triangles without changing the surface's topology.
+// in the manner of marching_cubes.hpp, on the field's inside bits (inside_bits.hpp: 64 grid points
+// to a word): passes over rows of cells in parallel (per word of 64 cells the non-trivial and the
+// rare ones, count the polygons, solve the sheets, emit the polygons), prefix sums between them,
+// disjoint output ranges, identical for any thread count. A cell's vertex id is a popcount in its
+// row, so no list of cells is stored. On a 0/1 field each distinct 4 x 4 x 4 neighbourhood's QEF
+// is solved once (a lock-free cache shared by the threads). Adaptive simplification
+// (`tolerance_mm` > 0) clusters the cells of an octree built over the grid bottom-up: a node's
+// children collapse into one vertex where the merged QEF error stays within the tolerance and Ju
+// et al.'s topology tests hold (one sheet, no sign change hidden at edge, face or cell midpoints),
+// so flat regions get fewer, larger triangles without changing the surface's topology.
 //
 // Guarantees: on a padded field (background on the outer layer) the mesh is closed, edge-manifold
 // and consistently wound, with the connectivity of marching_cubes.hpp.
-// Cost: one pass over the field to trim its rows (none for a label part, whose cells come from its
-// runs), then O(non-trivial cells) per pass plus one QEF solve per sheet (per distinct
-// neighbourhood on a 0/1 field); memory a list entry per non-trivial cell plus the output.
+// Cost: one pass over the field to pack its bits (for a label part, its runs set them: no mask),
+// then a few word operations per 64 cells per pass plus O(non-trivial cells), and one QEF solve per
+// sheet (per distinct neighbourhood on a 0/1 field); memory one bit per grid point, 16 bytes per
+// word of cells, and the output.
 #pragma once
 
 #include <cstdint>
@@ -50,6 +53,7 @@ struct DcOptions {
   NormalMethod normals = NormalMethod::central;  // the Hermite normals
   double svd_eps = 0.5;      // singular values below svd_eps * the largest are dropped
   double tolerance_mm = 0;   // > 0: adaptive simplification with this QEF error (RMS distance, mm)
+  bool vertex_normals = true;  // false: no normals (smoothing recomputes them); kept when simplifying
 };
 
 template <class T>
@@ -57,8 +61,9 @@ TriMesh dual_contouring(const Volume<T>& field, const DcOptions& options,
                         Progress& progress = null_progress());
 
 // Dual Contouring of one connected component of a label map (its 0/1 mask, options.iso
-// ignored): the cells come straight from the component's runs (run_scan.hpp), the Hermite data
-// from the mask; the mesh is the one dual_contouring(component_mask(...)) gives.
+// ignored): the inside bits come straight from the component's runs and the Hermite data from the
+// bits around each cell, so no mask is built; the mesh is the one
+// dual_contouring(component_mask(...)) gives.
 TriMesh dual_contouring(const Grid& grid, const Components& components, const Component& component,
                         const DcOptions& options, Progress& progress = null_progress());
 

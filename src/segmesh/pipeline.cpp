@@ -110,7 +110,9 @@ DcOptions dc_options(const MeshingOptions& o, double iso) {
           .connectivity = o.connectivity,
           .normals = o.normals,
           .svd_eps = o.dc_svd_eps,
-          .tolerance_mm = o.dc_tolerance_mm};
+          .tolerance_mm = o.dc_tolerance_mm,
+          // Smoothing recomputes the normals from the triangles.
+          .vertex_normals = o.smooth.method == SmoothMethod::none};
 }
 
 // Extracts one part from the field `make_field(margin)` cuts out: pre-smoothed when asked (with a

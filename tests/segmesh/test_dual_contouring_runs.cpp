@@ -1,6 +1,7 @@
-// Dual Contouring of a label part from its runs (cells from run_scan.hpp) against Dual Contouring
-// of the part's mask: the same mesh, for every connectivity and both normal operators, on random
-// label maps whose parts touch the volume border; identical for any thread count.
+// Dual Contouring of a label part from its runs (inside bits set run by run, inside_bits.hpp)
+// against Dual Contouring of the part's mask: the same mesh, for every connectivity and both normal
+// operators, on random label maps whose parts touch the volume border, and on rows across word
+// boundaries; the same without normals; identical for any thread count.
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
@@ -43,8 +44,44 @@ TEST(DualContouringRuns, SameMeshAsTheMaskForEveryComponent) {
   EXPECT_GT(compared, 20);
 }
 
+// Rows longer than one word of 64 cells (dual_contouring.cpp numbers cells by popcounts per
+// word): edges and quadrant cells on both sides of every word boundary.
+TEST(DualContouringRuns, SameMeshAsTheMaskAcrossWordBoundaries) {
+  for (int64_t nx : {62, 63, 64, 65, 127, 128, 131}) {
+    LabelVolume labels = random_labels({nx, 7, 6}, 0.55, unsigned(nx));
+    labels.grid.spacing = {0.4, 0.9, 1.3};
+    for (int connectivity : {6, 26}) {
+      const Components c = find_components(labels, {.connectivity = connectivity});
+      for (const Component& part : c.components) {
+        const DcOptions o{.connectivity = connectivity};
+        const TriMesh runs = dual_contouring(labels.grid, c, part, o);
+        const TriMesh mask = dual_contouring(component_mask(labels.grid, c, part), o);
+        EXPECT_TRUE(identical(runs, mask)) << "nx " << nx << " connectivity " << connectivity;
+        const MeshMeasures m = measure_mesh(runs);
+        EXPECT_TRUE(m.closed()) << "nx " << nx << " connectivity " << connectivity;
+        EXPECT_EQ(m.nonmanifold_vertices, 0) << "nx " << nx;
+      }
+    }
+  }
+}
+
+// Without vertex normals (what the pipeline asks for when smoothing follows): the same vertices
+// and triangles, no normals.
+TEST(DualContouringRuns, WithoutNormalsSameVerticesAndTriangles) {
+  const LabelVolume labels = random_labels({70, 20, 16}, 0.5, 5);
+  const Components c = find_components(labels, {});
+  const TriMesh with = dual_contouring(labels.grid, c, c.components[0], {});
+  const TriMesh without = dual_contouring(labels.grid, c, c.components[0], {.vertex_normals = false});
+  ASSERT_EQ(with.normals.size(), with.positions.size());
+  EXPECT_TRUE(without.normals.empty());
+  EXPECT_EQ(with.indices, without.indices);
+  TriMesh stripped = with;
+  stripped.normals.clear();
+  EXPECT_TRUE(identical(stripped, without));
+}
+
 TEST(DualContouringRuns, IdenticalForAnyThreadCount) {
-  const LabelVolume labels = random_labels({50, 40, 36}, 0.55, 13);
+  const LabelVolume labels = random_labels({150, 40, 36}, 0.55, 13);
   const Components c = find_components(labels, {});
   TriMesh one, many;
   tbb::task_arena(1).execute([&] { one = dual_contouring(labels.grid, c, c.components[0], {}); });

@@ -1,0 +1,67 @@
+// Inside bits: which grid points of a field are inside, packed 64 to a word along x, row by row.
+//
+// Dual Contouring (dual_contouring.cpp) works on these instead of the field: the Marching Cubes
+// case of a cell is two bits from each of four rows, the cells that hold surface are a few word
+// operations per 64 cells (a cell is non-trivial when its eight corners are not all equal), and
+// the 4 x 4 x 4 neighbourhood that decides a binary cell's vertex is sixteen 4-bit windows. A
+// part's bits come straight from its runs, so no byte mask of its bounding box is ever built:
+// one bit per grid point instead of one byte.
+//
+// Every row ends with at least one zero word, so reading the word after the one holding x never
+// leaves the row.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "segmesh/component_field.hpp"
+#include "segmesh/components.hpp"
+#include "segmesh/progress.hpp"
+#include "segmesh/volume.hpp"
+
+namespace segmesh {
+
+struct InsideBits {
+  std::array<int64_t, 3> dims{};
+  int64_t words = 0;            // per row: ceil(nx / 64) + 1
+  std::vector<uint64_t> bits;   // row (j, k) starts at (k * ny + j) * words
+
+  const uint64_t* row(int64_t j, int64_t k) const {
+    return bits.data() + static_cast<size_t>((k * dims[1] + j) * words);
+  }
+  bool at(int64_t i, int64_t j, int64_t k) const { return (row(j, k)[i >> 6] >> (i & 63) & 1) != 0; }
+};
+
+// Bits x and x + 1 of a row (x + 1 may be the first bit of the next word).
+inline unsigned bit_pair(const uint64_t* row, int64_t x) {
+  const int64_t w = x >> 6;
+  const unsigned s = static_cast<unsigned>(x & 63);
+  return static_cast<unsigned>(((row[w] >> s) | ((row[w + 1] << 1) << (63 - s))) & 3u);
+}
+
+// Bits x .. x + 3 of a row, x >= 0.
+inline unsigned bit_nibble(const uint64_t* row, int64_t x) {
+  const int64_t w = x >> 6;
+  const unsigned s = static_cast<unsigned>(x & 63);
+  return static_cast<unsigned>(((row[w] >> s) | ((row[w + 1] << 1) << (63 - s))) & 15u);
+}
+
+// Word w of a row moved down by one bit: its bit b is the row's bit 64 w + b + 1.
+inline uint64_t shifted_word(const uint64_t* row, int64_t w) { return (row[w] >> 1) | (row[w + 1] << 63); }
+
+// The grid points where value >= iso (integers against ceil(iso), floating point in double, NaN
+// outside: row_trim.hpp's InsideTest). Parallel over rows.
+template <class T>
+InsideBits inside_bits(const Volume<T>& field, double iso, Progress& progress = null_progress());
+
+// The points of one component on its bounding box grown by `margin` (component_grid's domain),
+// set run by run.
+InsideBits inside_bits(const Components& components, const Component& component,
+                       FieldMargin margin = kDefaultFieldMargin);
+
+extern template InsideBits inside_bits(const Volume<uint8_t>&, double, Progress&);
+extern template InsideBits inside_bits(const Volume<int32_t>&, double, Progress&);
+extern template InsideBits inside_bits(const Volume<float>&, double, Progress&);
+
+}  // namespace segmesh

@@ -1,0 +1,62 @@
+// Inside bits: a component's bits from its runs equal the bits of its mask, a field's bits follow
+// the inside test, and the bit readers cross word boundaries.
+#include "segmesh/inside_bits.hpp"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+
+#include "segmesh/component_field.hpp"
+#include "support/test_fields.hpp"
+
+namespace segmesh {
+namespace {
+
+TEST(InsideBits, ComponentRunsGiveTheBitsOfItsMask) {
+  const LabelVolume labels = test::random_labels({131, 9, 7}, 2, 0.5, 3);
+  const Components c = find_components(labels, {});
+  ASSERT_GT(c.components.size(), 2u);
+  for (const Component& part : c.components) {
+    const Volume<uint8_t> mask = component_mask(labels.grid, c, part);
+    const InsideBits runs = inside_bits(c, part);
+    const InsideBits field = inside_bits(mask, 0.5);
+    ASSERT_EQ(runs.dims, mask.grid.dims);
+    EXPECT_EQ(runs.bits, field.bits);
+    const auto& d = mask.grid.dims;
+    for (int64_t k = 0; k < d[2]; ++k) {
+      for (int64_t j = 0; j < d[1]; ++j) {
+        for (int64_t i = 0; i < d[0]; ++i) ASSERT_EQ(runs.at(i, j, k), mask.at(i, j, k) != 0);
+      }
+    }
+  }
+}
+
+TEST(InsideBits, FieldBitsFollowTheInsideTest) {
+  Volume<float> f;
+  f.grid.dims = {70, 2, 1};
+  f.voxels.resize(140);
+  for (size_t n = 0; n < f.voxels.size(); ++n) f.voxels[n] = float(n % 5) - 2.0f;  // -2 .. 2
+  f.voxels[64] = std::numeric_limits<float>::quiet_NaN();
+  const InsideBits b = inside_bits(f, 0.5);
+  EXPECT_EQ(b.words, 3);  // two words of points and the zero word after them
+  for (int64_t j = 0; j < 2; ++j) {
+    for (int64_t i = 0; i < 70; ++i) {
+      const float v = f.at(i, j, 0);
+      EXPECT_EQ(b.at(i, j, 0), v >= 0.5f) << i << " " << j;  // NaN is outside
+    }
+    EXPECT_EQ(b.row(j, 0)[2], 0u);
+  }
+}
+
+TEST(InsideBits, ReadersCrossWordBoundaries) {
+  const uint64_t row[3] = {uint64_t{1} << 63, 0b101, 0};  // bits 63, 64 and 66
+  EXPECT_EQ(bit_pair(row, 62), 0b10u);
+  EXPECT_EQ(bit_pair(row, 63), 0b11u);
+  EXPECT_EQ(bit_pair(row, 64), 0b01u);
+  EXPECT_EQ(bit_nibble(row, 62), 0b0110u);  // bits 62 .. 65
+  EXPECT_EQ(bit_nibble(row, 63), 0b1011u);  // bits 63 .. 66
+  EXPECT_EQ(shifted_word(row, 0), uint64_t{1} << 62 | uint64_t{1} << 63);
+}
+
+}  // namespace
+}  // namespace segmesh
