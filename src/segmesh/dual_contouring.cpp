@@ -789,13 +789,10 @@ class Extractor {
         uint32_t* out = mesh.indices.data() + 3 * triangle_first_[size_t(r)];
         uint32_t extra = static_cast<uint32_t>(sheets + extra_first_[size_t(r)]);
         owned_edges(r % cy_, r / cy_, false, [&](int axis, const auto& quadrant, bool in) {
-          const Polygon p = polygon(axis, quadrant, in);
-          auto pos = [&](int a) { return to_double(mesh.positions[p.vertex[a]]); };
-          if (p.n == 4) {
-            // The diagonal that gives the better pair of triangles (the higher worst radii
-            // ratio), from the six edge lengths of the quad.
+          // The diagonal that gives the better pair of triangles (the higher worst radii ratio),
+          // from the six edge lengths of the quad q4 (polygon() order).
+          auto quad = [&](const uint32_t* q4) {
             const Vec3f* v = mesh.positions.data();
-            const uint32_t* q4 = p.vertex.data();
             const float s01 = distance(v[q4[0]], v[q4[1]]), s12 = distance(v[q4[1]], v[q4[2]]),
                         s23 = distance(v[q4[2]], v[q4[3]]), s30 = distance(v[q4[3]], v[q4[0]]),
                         d02l = distance(v[q4[0]], v[q4[2]]), d13l = distance(v[q4[1]], v[q4[3]]);
@@ -803,9 +800,22 @@ class Extractor {
             const float d13 = std::min(sides_ratio(s12, s23, d13l), sides_ratio(d13l, s30, s01));
             const int s0 = d13 > d02 + 1e-6f ? 1 : 0;
             const int q[4] = {s0, s0 + 1, s0 + 2, (s0 + 3) % 4};
-            const uint32_t a = p.vertex[q[0]], b = p.vertex[q[1]], c = p.vertex[q[2]], d = p.vertex[q[3]];
+            const uint32_t a = q4[q[0]], b = q4[q[1]], c = q4[q[2]], d = q4[q[3]];
             out[0] = a, out[1] = b, out[2] = c, out[3] = a, out[4] = c, out[5] = d;
             out += 6;
+          };
+          if (quadrant[0].cs == kOneSheet && quadrant[1].cs == kOneSheet && quadrant[2].cs == kOneSheet &&
+              quadrant[3].cs == kOneSheet) {  // a quad of four single-sheet cells: polygon() inline
+            const bool reverse = in == grid_.mirrored();
+            uint32_t q4[4];
+            for (int n = 0; n < 4; ++n) q4[n] = quadrant[reverse ? 3 - n : n].first_vertex;
+            quad(q4);
+            return;
+          }
+          const Polygon p = polygon(axis, quadrant, in);
+          auto pos = [&](int a) { return to_double(mesh.positions[p.vertex[a]]); };
+          if (p.n == 4) {
+            quad(p.vertex.data());
             return;
           }
           auto rho = [&](int a, int b, int c) { return radii_ratio(pos(a), pos(b), pos(c)); };
