@@ -149,10 +149,10 @@ struct SheetVertices {
 };
 
 // Sheet vertices of binary cells by their 4 x 4 x 4 neighbourhood (the values every gradient of
-// the cell's corners reads, central or Sobel). The QEF of a cell of a 0/1 field is a function of
-// its neighbourhood alone, and a surface has few distinct neighbourhoods (about 27 000 among the
-// 390 000 surface cells of the phantom, 22 000 among 2.6 million in make_big.py's volume), so each
-// is solved once. A fixed-size open-addressing table shared by the tasks: a slot is claimed by
+// the cell's corners reads: all 64 for Sobel, 32 for central differences). The QEF of a cell of a
+// 0/1 field is a function of its neighbourhood alone, and a surface has few distinct
+// neighbourhoods (8 600 among the 2.6 million cells of make_big.py's large bone with central
+// differences, 22 800 with Sobel), so each is solved once. A fixed-size open-addressing table shared by the tasks: a slot is claimed by
 // compare-and-swap of its key and published once its value is written; a task that finds a slot
 // still being written, or no free slot in reach, solves the cell itself (and another task may
 // store the same key again: the values are equal). The value is what the solve gives, whoever
@@ -321,7 +321,8 @@ class Extractor {
         cx_(nx_ - 1),
         cy_(ny_ - 1),
         cz_(nz_ - 1),
-        cw_((cx_ + 63) / 64) {
+        cw_((cx_ + 63) / 64),
+        key_mask_(key_mask(options.normals)) {
     for (int cs = 0; cs < 256; ++cs) {
       const DcCase& dc = table_.cases[static_cast<size_t>(cs)];
       bool rare = dc.piece_count != 1;
@@ -631,14 +632,24 @@ class Extractor {
 
   // The 4 x 4 x 4 grid points around cell (i, j, k) (offsets -1 .. 2), bit (x + 4 y + 16 z) set
   // when inside, for a cell at least one point from the border: `rows` are the rows (j - 1 + y,
-  // k - 1 + z) at y + 4 z. Never 0 for a non-trivial cell.
-  static uint64_t neighbourhood(const uint64_t* const* rows, int64_t i) {
+  // k - 1 + z) at y + 4 z. Only the points the gradients read are kept (key_mask_), so cells
+  // that differ elsewhere share their entry. Never 0 for a non-trivial cell.
+  uint64_t neighbourhood(const uint64_t* const* rows, int64_t i) const {
     uint64_t key = 0;
     for (int n = 0; n < 16; ++n) key |= uint64_t{bit_nibble(rows[n], i - 1)} << (4 * n);
-    return key;
+    return key & key_mask_;
   }
-  bool interior(int64_t i, int64_t j, int64_t k) const {
-    return i >= 1 && j >= 1 && k >= 1 && i + 2 < nx_ && j + 2 < ny_ && k + 2 < nz_;
+  // Sobel reads the 3 x 3 x 3 points around each corner: all 64. Central differences read the
+  // corners' six neighbours: the 32 points with at most one coordinate at -1 or 2.
+  static uint64_t key_mask(NormalMethod normals) {
+    if (normals == NormalMethod::sobel) return ~uint64_t{0};
+    uint64_t mask = 0;
+    for (int n = 0; n < 64; ++n) {
+      const int outer = int(n % 4 == 0 || n % 4 == 3) + int(n / 4 % 4 == 0 || n / 4 % 4 == 3) +
+                        int(n / 16 == 0 || n / 16 == 3);
+      if (outer <= 1) mask |= uint64_t{1} << n;
+    }
+    return mask;
   }
 
   // Pass 3: the sheet vertices.
@@ -876,6 +887,7 @@ class Extractor {
   const DcTable& table_;
   Progress& progress_;
   const int64_t nx_, ny_, nz_, cx_, cy_, cz_, cw_;
+  const uint64_t key_mask_;
   std::array<bool, 256> rare_{};
   std::vector<CellWord> words_;           // per row of cells, cw_ words
   std::vector<uint8_t> row_rare_;         // per row of cells: any rare cell
