@@ -322,7 +322,8 @@ class Extractor {
         cy_(ny_ - 1),
         cz_(nz_ - 1),
         cw_((cx_ + 63) / 64),
-        key_mask_(key_mask(options.normals)) {
+        key_mask_(key_mask(options.normals)),
+        mirrored_(grid.mirrored()) {
     for (int cs = 0; cs < 256; ++cs) {
       const DcCase& dc = table_.cases[static_cast<size_t>(cs)];
       bool rare = dc.piece_count != 1;
@@ -742,7 +743,7 @@ class Extractor {
     }
     // Counter-clockwise around +axis faces +axis: right when the inside is at the edge's start.
     // A mirrored grid flips every winding once more.
-    if (inside_at_start == grid_.mirrored()) {
+    if (inside_at_start == mirrored_) {
       std::reverse(p.vertex.begin(), p.vertex.begin() + p.n);
       std::reverse(p.quadrant.begin(), p.quadrant.begin() + p.n);
     }
@@ -817,7 +818,7 @@ class Extractor {
           };
           if (quadrant[0].cs == kOneSheet && quadrant[1].cs == kOneSheet && quadrant[2].cs == kOneSheet &&
               quadrant[3].cs == kOneSheet) {  // a quad of four single-sheet cells: polygon() inline
-            const bool reverse = in == grid_.mirrored();
+            const bool reverse = in == mirrored_;
             uint32_t q4[4];
             for (int n = 0; n < 4; ++n) q4[n] = quadrant[reverse ? 3 - n : n].first_vertex;
             quad(q4);
@@ -888,6 +889,7 @@ class Extractor {
   Progress& progress_;
   const int64_t nx_, ny_, nz_, cx_, cy_, cz_, cw_;
   const uint64_t key_mask_;
+  const bool mirrored_;  // a mirrored grid reverses every winding
   std::array<bool, 256> rare_{};
   std::vector<CellWord> words_;           // per row of cells, cw_ words
   std::vector<uint8_t> row_rare_;         // per row of cells: any rare cell
