@@ -691,28 +691,53 @@ class Extractor {
     local.grid = grid_;
     local.grid.dims = {4, 4, 4};
     local.voxels.resize(64);
-    for (int n = 0; n < 64; ++n) local.voxels[static_cast<size_t>(n)] = uint8_t(key >> n & 1);
+    for (int x = 0; x < 4; ++x) {
+      for (int n = 0; n < 16; ++n) local.voxels[static_cast<size_t>(x + 4 * n)] = uint8_t(key >> (n + 16 * x) & 1);
+    }
     return solve_cell(local, 1, 1, 1, cs, qefs);
   }
 
-  // The 4 x 4 x 4 grid points around cell (i, j, k) (offsets -1 .. 2), bit (x + 4 y + 16 z) set
-  // when inside, for a cell at least one point from the border: `rows` are the rows (j - 1 + y,
-  // k - 1 + z) at y + 4 z. Only the points the gradients read are kept (key_mask_), so cells
+  // The columns of the 16 rows around one row of cells (rows (j - 1 + y, k - 1 + z) at
+  // n = y + 4 z), 16 bits per grid point x (inside_bits.hpp's column_codes), computed a word at a
+  // time as the cells ask for them (a cell reads x - 1 .. x + 2: three consecutive words at most).
+  class Columns {
+   public:
+    explicit Columns(const uint64_t* const* rows) : rows_(rows) {}
+    uint64_t at(int64_t x) {
+      const int64_t w = x >> 6;
+      const size_t slot = static_cast<size_t>(w % 3);
+      if (word_[slot] != w) {
+        column_codes(rows_, w, codes_[slot]);
+        word_[slot] = w;
+      }
+      return codes_[slot][x & 63];
+    }
+
+   private:
+    const uint64_t* const* rows_;
+    int64_t word_[3] = {-1, -1, -1};
+    uint16_t codes_[3][64];
+  };
+
+  // The 4 x 4 x 4 grid points around cell (i, j, k) (offsets -1 .. 2), bit (n + 16 x) set when
+  // point (x, y, z) is inside (n = y + 4 z), for a cell at least one point from the border: the
+  // columns at i - 1 .. i + 2. Only the points the gradients read are kept (key_mask_), so cells
   // that differ elsewhere share their entry. Never 0 for a non-trivial cell.
-  uint64_t neighbourhood(const uint64_t* const* rows, int64_t i) const {
-    uint64_t key = 0;
-    for (int n = 0; n < 16; ++n) key |= uint64_t{bit_nibble(rows[n], i - 1)} << (4 * n);
-    return key & key_mask_;
+  uint64_t neighbourhood(Columns& columns, int64_t i) const {
+    return (columns.at(i - 1) | columns.at(i) << 16 | columns.at(i + 1) << 32 | columns.at(i + 2) << 48) &
+           key_mask_;
   }
   // Sobel reads the 3 x 3 x 3 points around each corner: all 64. Central differences read the
   // corners' six neighbours: the 32 points with at most one coordinate at -1 or 2.
   static uint64_t key_mask(NormalMethod normals) {
     if (normals == NormalMethod::sobel) return ~uint64_t{0};
     uint64_t mask = 0;
-    for (int n = 0; n < 64; ++n) {
-      const int outer = int(n % 4 == 0 || n % 4 == 3) + int(n / 4 % 4 == 0 || n / 4 % 4 == 3) +
-                        int(n / 16 == 0 || n / 16 == 3);
-      if (outer <= 1) mask |= uint64_t{1} << n;
+    for (int x = 0; x < 4; ++x) {
+      for (int n = 0; n < 16; ++n) {
+        const int y = n % 4, z = n / 4;
+        const int outer = int(x == 0 || x == 3) + int(y == 0 || y == 3) + int(z == 0 || z == 3);
+        if (outer <= 1) mask |= uint64_t{1} << (n + 16 * x);
+      }
     }
     return mask;
   }
@@ -733,6 +758,7 @@ class Extractor {
         if (rows_inside) {
           for (int n = 0; n < 16; ++n) around[n] = bits_.row(j - 1 + (n & 3), k - 1 + (n >> 2));
         }
+        Columns columns(around);
         uint32_t id = static_cast<uint32_t>(vertex_first_[size_t(r)]);
         const CellWord* row = words(j, k);
         for (int64_t w = 0; w < cw_; ++w) {
@@ -761,7 +787,7 @@ class Extractor {
               if (f_ == nullptr) throw std::logic_error("dual contouring: a part's cell at its border");
               emit_all(solve_cell(*f_, x, j, k, cs, qefs));
             } else if (cache && n <= SheetVertices::kPieces) {
-              const uint64_t key = neighbourhood(around, x);
+              const uint64_t key = neighbourhood(columns, x);
               const SheetVertices& v = front->get(key, *cache, [&](SheetVertices& out) {
                 const CellVertices full = solve_key(key, cs, nullptr);
                 for (int p = 0; p < n; ++p) {
@@ -775,7 +801,7 @@ class Extractor {
             } else if (f_ != nullptr) {
               emit_all(solve_cell(*f_, x, j, k, cs, qefs));
             } else {
-              emit_all(solve_key(neighbourhood(around, x), cs, qefs));
+              emit_all(solve_key(neighbourhood(columns, x), cs, qefs));
             }
             id += static_cast<uint32_t>(n);
           }

@@ -5,6 +5,10 @@
 
 #include <algorithm>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "segmesh/row_trim.hpp"
 
 namespace segmesh {
@@ -20,6 +24,50 @@ InsideBits empty_bits(const std::array<int64_t, 3>& dims) {
 }
 
 }  // namespace
+
+void column_codes(const uint64_t* const* rows, int64_t w, uint16_t* codes) {
+#if defined(__SSE2__)
+  // Bytes: A[n][m] is byte m of rows[n][w]. Interleave rows in pairs, fours, eights, sixteens,
+  // so that v[m] holds A[0 .. 15][m]; bit i of byte n of v[m] is then the bit wanted.
+  __m128i e[8], f[8], g[8], v[8];
+  for (int t = 0; t < 8; ++t) {
+    const __m128i pair = _mm_set_epi64x(static_cast<int64_t>(rows[2 * t + 1][w]), static_cast<int64_t>(rows[2 * t][w]));
+    e[t] = _mm_unpacklo_epi8(pair, _mm_srli_si128(pair, 8));  // 16 bits m: rows 2t, 2t + 1
+  }
+  for (int u = 0; u < 4; ++u) {  // 32 bits m: rows 4u .. 4u + 3, m = 0 .. 3, then 4 .. 7
+    f[2 * u] = _mm_unpacklo_epi16(e[2 * u], e[2 * u + 1]);
+    f[2 * u + 1] = _mm_unpackhi_epi16(e[2 * u], e[2 * u + 1]);
+  }
+  for (int h = 0; h < 2; ++h) {  // 64 bits m: rows 8h .. 8h + 7; g[4h + q] holds m = 2q, 2q + 1
+    for (int half = 0; half < 2; ++half) {
+      const __m128i a = f[4 * h + half], b = f[4 * h + 2 + half];
+      g[4 * h + 2 * half] = _mm_unpacklo_epi32(a, b);
+      g[4 * h + 2 * half + 1] = _mm_unpackhi_epi32(a, b);
+    }
+  }
+  for (int q = 0; q < 4; ++q) {
+    v[2 * q] = _mm_unpacklo_epi64(g[q], g[4 + q]);
+    v[2 * q + 1] = _mm_unpackhi_epi64(g[q], g[4 + q]);
+  }
+  for (int m = 0; m < 8; ++m) {
+    // movemask takes bit 7 of each byte; a 16-bit shift moves bit i there in both bytes.
+    codes[8 * m + 0] = static_cast<uint16_t>(_mm_movemask_epi8(_mm_slli_epi16(v[m], 7)));
+    codes[8 * m + 1] = static_cast<uint16_t>(_mm_movemask_epi8(_mm_slli_epi16(v[m], 6)));
+    codes[8 * m + 2] = static_cast<uint16_t>(_mm_movemask_epi8(_mm_slli_epi16(v[m], 5)));
+    codes[8 * m + 3] = static_cast<uint16_t>(_mm_movemask_epi8(_mm_slli_epi16(v[m], 4)));
+    codes[8 * m + 4] = static_cast<uint16_t>(_mm_movemask_epi8(_mm_slli_epi16(v[m], 3)));
+    codes[8 * m + 5] = static_cast<uint16_t>(_mm_movemask_epi8(_mm_slli_epi16(v[m], 2)));
+    codes[8 * m + 6] = static_cast<uint16_t>(_mm_movemask_epi8(_mm_slli_epi16(v[m], 1)));
+    codes[8 * m + 7] = static_cast<uint16_t>(_mm_movemask_epi8(v[m]));
+  }
+#else
+  for (int b = 0; b < 64; ++b) {
+    unsigned code = 0;
+    for (int n = 0; n < 16; ++n) code |= unsigned(rows[n][w] >> b & 1) << n;
+    codes[b] = static_cast<uint16_t>(code);
+  }
+#endif
+}
 
 template <class T>
 InsideBits inside_bits(const Volume<T>& field, double iso, Progress& progress) {

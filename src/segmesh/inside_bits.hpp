@@ -3,9 +3,9 @@
 // Dual Contouring (dual_contouring.cpp) works on these instead of the field: the Marching Cubes
 // case of a cell is two bits from each of four rows, the cells that hold surface are a few word
 // operations per 64 cells (a cell is non-trivial when its eight corners are not all equal), and
-// the 4 x 4 x 4 neighbourhood that decides a binary cell's vertex is sixteen 4-bit windows. A
-// part's bits come straight from its runs, so no byte mask of its bounding box is ever built:
-// one bit per grid point instead of one byte.
+// the 4 x 4 x 4 neighbourhood that decides a binary cell's vertex is four 16-bit columns of the
+// sixteen rows around the cell's row (column_codes). A part's bits come straight from its runs,
+// so no byte mask of its bounding box is ever built: one bit per grid point instead of one byte.
 //
 // Every row ends with at least one zero word, so reading the word after the one holding x never
 // leaves the row.
@@ -40,15 +40,12 @@ inline unsigned bit_pair(const uint64_t* row, int64_t x) {
   return static_cast<unsigned>(((row[w] >> s) | ((row[w + 1] << 1) << (63 - s))) & 3u);
 }
 
-// Bits x .. x + 3 of a row, x >= 0.
-inline unsigned bit_nibble(const uint64_t* row, int64_t x) {
-  const int64_t w = x >> 6;
-  const unsigned s = static_cast<unsigned>(x & 63);
-  return static_cast<unsigned>(((row[w] >> s) | ((row[w + 1] << 1) << (63 - s))) & 15u);
-}
-
 // Word w of a row moved down by one bit: its bit b is the row's bit 64 w + b + 1.
 inline uint64_t shifted_word(const uint64_t* row, int64_t w) { return (row[w] >> 1) | (row[w + 1] << 63); }
+
+// The 64 columns of word w of 16 rows: bit n of codes[b] is bit 64 w + b of rows[n]. (A bit
+// matrix transpose; with SSE2 a byte transpose and 64 movemasks instead of 1024 bit extractions.)
+void column_codes(const uint64_t* const* rows, int64_t w, uint16_t* codes);
 
 // The grid points where value >= iso (integers against ceil(iso), floating point in double, NaN
 // outside: row_trim.hpp's InsideTest). Parallel over rows.

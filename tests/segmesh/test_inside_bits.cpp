@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <limits>
+#include <random>
+#include <vector>
 
 #include "segmesh/component_field.hpp"
 #include "support/test_fields.hpp"
@@ -53,9 +55,25 @@ TEST(InsideBits, ReadersCrossWordBoundaries) {
   EXPECT_EQ(bit_pair(row, 62), 0b10u);
   EXPECT_EQ(bit_pair(row, 63), 0b11u);
   EXPECT_EQ(bit_pair(row, 64), 0b01u);
-  EXPECT_EQ(bit_nibble(row, 62), 0b0110u);  // bits 62 .. 65
-  EXPECT_EQ(bit_nibble(row, 63), 0b1011u);  // bits 63 .. 66
   EXPECT_EQ(shifted_word(row, 0), uint64_t{1} << 62 | uint64_t{1} << 63);
+}
+
+TEST(InsideBits, ColumnCodesTransposeSixteenRows) {
+  std::mt19937_64 rng(5);
+  std::vector<uint64_t> words(16 * 3);
+  for (auto& w : words) w = rng();
+  words[3] = 0, words[7] = ~uint64_t{0};  // rows 1 (word 0) and 2 (word 1) constant
+  const uint64_t* rows[16];
+  for (int n = 0; n < 16; ++n) rows[n] = words.data() + 3 * n;
+  for (int64_t w = 0; w < 3; ++w) {
+    uint16_t codes[64];
+    column_codes(rows, w, codes);
+    for (int b = 0; b < 64; ++b) {
+      for (int n = 0; n < 16; ++n) {
+        ASSERT_EQ(codes[b] >> n & 1, rows[n][w] >> b & 1) << "word " << w << " bit " << b << " row " << n;
+      }
+    }
+  }
 }
 
 }  // namespace
