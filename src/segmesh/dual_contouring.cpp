@@ -326,6 +326,7 @@ struct CellWord {
 // of v[n] as its corner n (marching_cubes_table.hpp numbering).
 struct CornerWords {
   uint64_t v[8];
+  CornerWords() = default;
   CornerWords(const uint64_t* a, const uint64_t* b, const uint64_t* c, const uint64_t* d, int64_t w) {
     const uint64_t* rows[4] = {a, b, c, d};
     for (int r = 0; r < 4; ++r) {
@@ -339,10 +340,34 @@ struct CornerWords {
     for (uint64_t x : v) any |= x, all &= x;
     return any & ~all;
   }
+  // Every cell of the word in case cs.
+  static CornerWords of_case(int cs) {
+    CornerWords c;
+    for (int n = 0; n < 8; ++n) c.v[n] = (cs >> n & 1) ? ~uint64_t{0} : 0;
+    return c;
+  }
   int case_of(int b) const {
     int cs = 0;
     for (int n = 0; n < 8; ++n) cs |= int(v[n] >> b & 1) << n;
     return cs;
+  }
+  // The cells that may hold other than one sheet: an ambiguous face (its diagonal corners equal,
+  // adjacent ones not), or two body-opposite corners that differ from the other six. The
+  // Extractor checks once that every rare case of its table is among these.
+  uint64_t maybe_rare() const {
+    static constexpr int kFaces[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                         {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
+    uint64_t maybe = 0;
+    for (const auto& f : kFaces) maybe |= ~(v[f[0]] ^ v[f[2]]) & ~(v[f[1]] ^ v[f[3]]) & (v[f[0]] ^ v[f[1]]);
+    for (int p = 0; p < 4; ++p) {  // corners p and 7 - p
+      const int o = p == 0 ? 1 : 0;  // one of the other six
+      uint64_t alone = ~(v[p] ^ v[7 - p]) & (v[p] ^ v[o]);
+      for (int n = 0; n < 8; ++n) {
+        if (n != p && n != 7 - p) alone &= ~(v[n] ^ v[o]);
+      }
+      maybe |= alone;
+    }
+    return maybe;
   }
   // The edges every cell owns (its edges 3, 7 and 11, at its corner 7): cut when corner 7
   // differs from corner 6, 5 or 3.
@@ -393,6 +418,9 @@ class Extractor {
       bool rare = dc.piece_count != 1;
       for (int e = 0; e < 12; ++e) rare = rare || dc.around_count[e] > 1;
       rare_[static_cast<size_t>(cs)] = rare;
+      if (rare && cs != 0 && cs != 255 && (CornerWords::of_case(cs).maybe_rare() & 1) == 0) {
+        throw std::logic_error("dual contouring: a rare case the word test misses");
+      }
     }
   }
 
@@ -469,7 +497,7 @@ class Extractor {
         const CornerWords c = corners(j, k, w);
         CellWord cw{c.nontrivial() & valid(w), 0};
         sheets += uint64_t(std::popcount(cw.cells));
-        for (uint64_t m = cw.cells; m != 0; m &= m - 1) {
+        for (uint64_t m = cw.cells & c.maybe_rare(); m != 0; m &= m - 1) {
           const int b = std::countr_zero(m);
           const int cs = c.case_of(b);
           if (rare_[static_cast<size_t>(cs)]) {
@@ -767,8 +795,9 @@ class Extractor {
           for (uint64_t m = row[w].cells; m != 0; m &= m - 1) {
             const int b = std::countr_zero(m);
             const int64_t x = 64 * w + b;
-            const int cs = c.case_of(b);
-            const int n = pieces(cs);
+            // A cell that is not rare holds one sheet; its case is only needed to solve it.
+            const auto cs = [&] { return c.case_of(b); };
+            const int n = (row[w].rare >> b & 1) ? pieces(cs()) : 1;
             auto emit = [&](int piece, const double* d, const float* normal) {
               mesh.positions[id + piece] =
                   to_float(grid_.to_world({double(x) + d[0], double(j) + d[1], double(k) + d[2]}));
@@ -785,11 +814,11 @@ class Extractor {
             const bool keyed = rows_inside && x >= 1 && x + 2 < nx_;
             if (!keyed) {
               if (f_ == nullptr) throw std::logic_error("dual contouring: a part's cell at its border");
-              emit_all(solve_cell(*f_, x, j, k, cs, qefs));
+              emit_all(solve_cell(*f_, x, j, k, cs(), qefs));
             } else if (cache && n <= SheetVertices::kPieces) {
               const uint64_t key = neighbourhood(columns, x);
               const SheetVertices& v = front->get(key, *cache, [&](SheetVertices& out) {
-                const CellVertices full = solve_key(key, cs, nullptr);
+                const CellVertices full = solve_key(key, cs(), nullptr);
                 for (int p = 0; p < n; ++p) {
                   out.offset[p][0] = full.offset[p].x, out.offset[p][1] = full.offset[p].y;
                   out.offset[p][2] = full.offset[p].z;
@@ -799,9 +828,9 @@ class Extractor {
               });
               for (int p = 0; p < n; ++p) emit(p, v.offset[p], v.normal[p]);
             } else if (f_ != nullptr) {
-              emit_all(solve_cell(*f_, x, j, k, cs, qefs));
+              emit_all(solve_cell(*f_, x, j, k, cs(), qefs));
             } else {
-              emit_all(solve_key(neighbourhood(columns, x), cs, qefs));
+              emit_all(solve_key(neighbourhood(columns, x), cs(), qefs));
             }
             id += static_cast<uint32_t>(n);
           }
