@@ -148,7 +148,8 @@ struct PendingQuad {
 };
 
 inline void write_quad(const PendingQuad& q, int diagonal) {
-  const uint32_t a = q.v[diagonal], b = q.v[diagonal + 1], c = q.v[diagonal + 2], d = q.v[(diagonal + 3) % 4];
+  const uint32_t a = q.v[diagonal], b = q.v[diagonal + 1], c = q.v[diagonal + 2],
+                 d = q.v[(diagonal + 3) % 4];
   q.out[0] = a, q.out[1] = b, q.out[2] = c, q.out[3] = a, q.out[4] = c, q.out[5] = d;
 }
 
@@ -162,21 +163,26 @@ void split_quads(const Vec3f* v, const PendingQuad* q, size_t n) {
   for (; i + 4 <= n; i += 4) {
     __m128 x[4], y[4], z[4];
     for (int c = 0; c < 4; ++c) {
-      const Vec3f &a = v[q[i].v[c]], &b = v[q[i + 1].v[c]], &e = v[q[i + 2].v[c]], &f = v[q[i + 3].v[c]];
+      const Vec3f &a = v[q[i].v[c]], &b = v[q[i + 1].v[c]], &e = v[q[i + 2].v[c]],
+                  &f = v[q[i + 3].v[c]];
       x[c] = _mm_setr_ps(a.x, b.x, e.x, f.x);
       y[c] = _mm_setr_ps(a.y, b.y, e.y, f.y);
       z[c] = _mm_setr_ps(a.z, b.z, e.z, f.z);
     }
     auto length = [&](int s, int t) {  // as std::sqrt(squared_distance(p_s, p_t))
-      const __m128 dx = _mm_sub_ps(x[s], x[t]), dy = _mm_sub_ps(y[s], y[t]), dz = _mm_sub_ps(z[s], z[t]);
-      return _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz)));
+      const __m128 dx = _mm_sub_ps(x[s], x[t]), dy = _mm_sub_ps(y[s], y[t]),
+                   dz = _mm_sub_ps(z[s], z[t]);
+      return _mm_sqrt_ps(
+          _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz)));
     };
     auto ratio = [](__m128 a, __m128 b, __m128 c) {  // as sides_ratio(a, b, c)
-      const __m128 f = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(_mm_add_ps(b, c), a), _mm_sub_ps(_mm_add_ps(c, a), b)),
-                                  _mm_sub_ps(_mm_add_ps(a, b), c));
+      const __m128 f =
+          _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(_mm_add_ps(b, c), a), _mm_sub_ps(_mm_add_ps(c, a), b)),
+                     _mm_sub_ps(_mm_add_ps(a, b), c));
       const __m128 abc = _mm_mul_ps(_mm_mul_ps(a, b), c);
       const __m128 zero = _mm_setzero_ps();
-      return _mm_and_ps(_mm_and_ps(_mm_cmpgt_ps(f, zero), _mm_cmpgt_ps(abc, zero)), _mm_div_ps(f, abc));
+      return _mm_and_ps(_mm_and_ps(_mm_cmpgt_ps(f, zero), _mm_cmpgt_ps(abc, zero)),
+                        _mm_div_ps(f, abc));
     };
     const __m128 s01 = length(0, 1), s12 = length(1, 2), s23 = length(2, 3), s30 = length(3, 0),
                  l02 = length(0, 2), l13 = length(1, 3);
@@ -187,7 +193,8 @@ void split_quads(const Vec3f* v, const PendingQuad* q, size_t n) {
     for (int k = 0; k < 4; ++k) write_quad(q[i + size_t(k)], choice >> k & 1);
   }
 #endif
-  for (; i < n; ++i) write_quad(q[i], better_diagonal(v[q[i].v[0]], v[q[i].v[1]], v[q[i].v[2]], v[q[i].v[3]]));
+  for (; i < n; ++i)
+    write_quad(q[i], better_diagonal(v[q[i].v[0]], v[q[i].v[1]], v[q[i].v[2]], v[q[i].v[3]]));
 }
 
 // The Hermite data of a cell's cut edges, relative to the cell: crossing in millimetres from the
@@ -216,14 +223,14 @@ struct SheetVertices {
 // the cell's corners reads: all 64 for Sobel, 32 for central differences). The QEF of a cell of a
 // 0/1 field is a function of its neighbourhood alone, and a surface has few distinct
 // neighbourhoods (8 600 among the 2.6 million cells of make_big.py's large bone with central
-// differences, 22 800 with Sobel), so each is solved once. A fixed-size open-addressing table shared by the tasks: a slot is claimed by
-// compare-and-swap of its key and published once its value is written; a task that finds a slot
-// still being written, or no free slot in reach, solves the cell itself (and another task may
-// store the same key again: the values are equal). The value is what the solve gives, whoever
-// computes it, so the output does not depend on the threads. Each task keeps a small direct-mapped
-// copy in front of it (NeighbourhoodFront), because neighbouring cells repeat neighbourhoods
-// (a wall along x) and the shared table is too large for the caches; one per thread. Cells with more than two
-// sheets (rare) are always solved.
+// differences, 22 800 with Sobel), so each is solved once. A fixed-size open-addressing table
+// shared by the tasks: a slot is claimed by compare-and-swap of its key and published once its
+// value is written; a task that finds a slot still being written, or no free slot in reach, solves
+// the cell itself (and another task may store the same key again: the values are equal). The value
+// is what the solve gives, whoever computes it, so the output does not depend on the threads. Each
+// task keeps a small direct-mapped copy in front of it (NeighbourhoodFront), because neighbouring
+// cells repeat neighbourhoods (a wall along x) and the shared table is too large for the caches;
+// one per thread. Cells with more than two sheets (rare) are always solved.
 class NeighbourhoodCache {
  public:
   explicit NeighbourhoodCache(size_t cells) {
@@ -327,7 +334,8 @@ struct CellWord {
 struct CornerWords {
   uint64_t v[8];
   CornerWords() = default;
-  CornerWords(const uint64_t* a, const uint64_t* b, const uint64_t* c, const uint64_t* d, int64_t w) {
+  CornerWords(const uint64_t* a, const uint64_t* b, const uint64_t* c, const uint64_t* d,
+              int64_t w) {
     const uint64_t* rows[4] = {a, b, c, d};
     for (int r = 0; r < 4; ++r) {
       v[2 * r] = rows[r][w];
@@ -358,7 +366,8 @@ struct CornerWords {
     static constexpr int kFaces[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4},
                                          {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
     uint64_t maybe = 0;
-    for (const auto& f : kFaces) maybe |= ~(v[f[0]] ^ v[f[2]]) & ~(v[f[1]] ^ v[f[3]]) & (v[f[0]] ^ v[f[1]]);
+    for (const auto& f : kFaces)
+      maybe |= ~(v[f[0]] ^ v[f[2]]) & ~(v[f[1]] ^ v[f[3]]) & (v[f[0]] ^ v[f[1]]);
     for (int p = 0; p < 4; ++p) {  // corners p and 7 - p
       const int o = p == 0 ? 1 : 0;  // one of the other six
       uint64_t alone = ~(v[p] ^ v[7 - p]) & (v[p] ^ v[o]);
@@ -452,7 +461,9 @@ class Extractor {
  private:
   int64_t rows() const { return cy_ * cz_; }
   size_t row_index(int64_t j, int64_t k) const { return static_cast<size_t>(k * cy_ + j); }
-  const CellWord* words(int64_t j, int64_t k) const { return words_.data() + row_index(j, k) * size_t(cw_); }
+  const CellWord* words(int64_t j, int64_t k) const {
+    return words_.data() + row_index(j, k) * size_t(cw_);
+  }
   CornerWords corners(int64_t j, int64_t k, int64_t w) const {
     return {bits_.row(j, k), bits_.row(j + 1, k), bits_.row(j, k + 1), bits_.row(j + 1, k + 1), w};
   }
@@ -561,12 +572,19 @@ class Extractor {
     const int64_t jr = q.j + (r & 1), kr = q.k + (r >> 1);
     const bool present = q.exists[r] && (b < 64 ? q.word[r].cells >> b & 1 : q.next[r].cells & 1);
     if (!present) throw std::logic_error("dual contouring: a cut edge without its four cells");
-    const uint64_t below = b < 64 ? (uint64_t{1} << b) - 1 : ~uint64_t{0};
-    CellRef c;
-    c.first_vertex = q.first[r] + (q.word[r].rare & below ? sheets_in(jr, kr, w, below)
-                                                         : static_cast<uint32_t>(std::popcount(q.word[r].cells & below)));
+    CellRef c = q.word[r].rare & below(b)
+                    ? CellRef{kOneSheet, q.first[r] + sheets_in(jr, kr, w, below(b))}
+                    : single_sheet(q, r, b);
     if (b < 64 ? q.word[r].rare >> b & 1 : q.next[r].rare & 1) c.cs = case_at(64 * w + b, jr, kr);
     return c;
+  }
+  // The cells before cell b (0 .. 64) of a word.
+  static uint64_t below(int b) { return b < 64 ? (uint64_t{1} << b) - 1 : ~uint64_t{0}; }
+  // Cell b of quadrant row r's word when no rare cell precedes it there and it is not rare: its
+  // first vertex is a popcount.
+  static CellRef single_sheet(const RowQuad& q, int r, int b) {
+    return {kOneSheet,
+            q.first[r] + static_cast<uint32_t>(std::popcount(q.word[r].cells & below(b)))};
   }
 
   // Calls visit(axis, quadrant cells, inside at the edge's start) for every cut edge row (j, k)
@@ -587,7 +605,8 @@ class Extractor {
       uint64_t e3 = c.cut3() & cells, e7 = c.cut7() & cells, e11 = c.cut11() & cells;
       if (rare_only) {
         auto right = [&](int r) { return (q.word[r].rare >> 1) | (q.next[r].rare << 63); };
-        const uint64_t r0 = q.word[0].rare, r1 = q.word[1].rare, r2 = q.word[2].rare, r3 = q.word[3].rare;
+        const uint64_t r0 = q.word[0].rare, r1 = q.word[1].rare, r2 = q.word[2].rare,
+                       r3 = q.word[3].rare;
         e3 &= r0 | r1 | r2 | r3;
         e7 &= r0 | r2 | right(0) | right(2);
         e11 &= r0 | r1 | right(0) | right(1);
@@ -597,17 +616,19 @@ class Extractor {
       if (rare == 0 && !rare_only) {
         // No rare cell: every cell around the edges holds one sheet, numbered by a popcount
         // (count_polygons has checked that all four exist).
-        auto id = [&](int r, int b) {
-          const uint64_t below = b < 64 ? (uint64_t{1} << b) - 1 : ~uint64_t{0};
-          return CellRef{kOneSheet, q.first[r] + static_cast<uint32_t>(std::popcount(q.word[r].cells & below))};
-        };
+        auto id = [&](int r, int b) { return single_sheet(q, r, b); };
         for (uint64_t m = e3 | e7 | e11; m != 0; m &= m - 1) {
           const int b = std::countr_zero(m);
           const uint64_t bit = uint64_t{1} << b;
           const CellRef c0 = id(0, b);
-          if (e3 & bit) visit(0, std::array<CellRef, 4>{id(1, b), id(3, b), id(2, b), c0}, (c.v[6] & bit) != 0);
-          if (e7 & bit) visit(1, std::array<CellRef, 4>{id(2, b), id(2, b + 1), id(0, b + 1), c0}, (c.v[5] & bit) != 0);
-          if (e11 & bit) visit(2, std::array<CellRef, 4>{id(0, b + 1), id(1, b + 1), id(1, b), c0}, (c.v[3] & bit) != 0);
+          if (e3 & bit)
+            visit(0, std::array<CellRef, 4>{id(1, b), id(3, b), id(2, b), c0}, (c.v[6] & bit) != 0);
+          if (e7 & bit)
+            visit(1, std::array<CellRef, 4>{id(2, b), id(2, b + 1), id(0, b + 1), c0},
+                  (c.v[5] & bit) != 0);
+          if (e11 & bit)
+            visit(2, std::array<CellRef, 4>{id(0, b + 1), id(1, b + 1), id(1, b), c0},
+                  (c.v[3] & bit) != 0);
         }
         advance(q, w);
         continue;
@@ -616,15 +637,21 @@ class Extractor {
         const int b = std::countr_zero(m);
         const uint64_t bit = uint64_t{1} << b;
         if (e3 & bit) {
-          visit(0, std::array<CellRef, 4>{cell(q, 1, w, b), cell(q, 3, w, b), cell(q, 2, w, b), cell(q, 0, w, b)},
+          visit(0,
+                std::array<CellRef, 4>{cell(q, 1, w, b), cell(q, 3, w, b), cell(q, 2, w, b),
+                                       cell(q, 0, w, b)},
                 (c.v[6] & bit) != 0);
         }
         if (e7 & bit) {
-          visit(1, std::array<CellRef, 4>{cell(q, 2, w, b), cell(q, 2, w, b + 1), cell(q, 0, w, b + 1), cell(q, 0, w, b)},
+          visit(1,
+                std::array<CellRef, 4>{cell(q, 2, w, b), cell(q, 2, w, b + 1), cell(q, 0, w, b + 1),
+                                       cell(q, 0, w, b)},
                 (c.v[5] & bit) != 0);
         }
         if (e11 & bit) {
-          visit(2, std::array<CellRef, 4>{cell(q, 0, w, b + 1), cell(q, 1, w, b + 1), cell(q, 1, w, b), cell(q, 0, w, b)},
+          visit(2,
+                std::array<CellRef, 4>{cell(q, 0, w, b + 1), cell(q, 1, w, b + 1), cell(q, 1, w, b),
+                                       cell(q, 0, w, b)},
                 (c.v[3] & bit) != 0);
         }
       }
@@ -679,7 +706,8 @@ class Extractor {
   // The QEF vertices of every sheet of cell (i, j, k) of field f, relative to the cell; the QEFs
   // into `qefs` when given (simplification).
   template <class F>
-  CellVertices solve_cell(const Volume<F>& f, int64_t i, int64_t j, int64_t k, int cs, Qef* qefs) const {
+  CellVertices solve_cell(const Volume<F>& f, int64_t i, int64_t j, int64_t k, int cs,
+                          Qef* qefs) const {
     const auto& s = grid_.spacing;
     const DcCase& dc = table_.cases[static_cast<size_t>(cs)];
     const CellHermite h = cell_hermite(f, i, j, k, cs);
@@ -720,7 +748,8 @@ class Extractor {
     local.grid.dims = {4, 4, 4};
     local.voxels.resize(64);
     for (int x = 0; x < 4; ++x) {
-      for (int n = 0; n < 16; ++n) local.voxels[static_cast<size_t>(x + 4 * n)] = uint8_t(key >> (n + 16 * x) & 1);
+      for (int n = 0; n < 16; ++n)
+        local.voxels[static_cast<size_t>(x + 4 * n)] = uint8_t(key >> (n + 16 * x) & 1);
     }
     return solve_cell(local, 1, 1, 1, cs, qefs);
   }
@@ -752,7 +781,8 @@ class Extractor {
   // columns at i - 1 .. i + 2. Only the points the gradients read are kept (key_mask_), so cells
   // that differ elsewhere share their entry. Never 0 for a non-trivial cell.
   uint64_t neighbourhood(Columns& columns, int64_t i) const {
-    return (columns.at(i - 1) | columns.at(i) << 16 | columns.at(i + 1) << 32 | columns.at(i + 2) << 48) &
+    return (columns.at(i - 1) | columns.at(i) << 16 | columns.at(i + 1) << 32 |
+            columns.at(i + 2) << 48) &
            key_mask_;
   }
   // Sobel reads the 3 x 3 x 3 points around each corner: all 64. Central differences read the
@@ -813,7 +843,8 @@ class Extractor {
             Qef* qefs = qefs_.empty() ? nullptr : &qefs_[id];
             const bool keyed = rows_inside && x >= 1 && x + 2 < nx_;
             if (!keyed) {
-              if (f_ == nullptr) throw std::logic_error("dual contouring: a part's cell at its border");
+              if (f_ == nullptr)
+                throw std::logic_error("dual contouring: a part's cell at its border");
               emit_all(solve_cell(*f_, x, j, k, cs(), qefs));
             } else if (cache && n <= SheetVertices::kPieces) {
               const uint64_t key = neighbourhood(columns, x);
@@ -892,7 +923,8 @@ class Extractor {
         if (w == cw_ - 1 && (e7 | e11) >> ((cx_ - 1) & 63) & 1) missing = true;
       }
       if (missing && triangles > 0) {
-        owned_edges(j, k, false, [](int, const auto&, bool) {});  // throws for the cut edge at fault
+        owned_edges(j, k, false,
+                    [](int, const auto&, bool) {});  // throws for the cut edge at fault
       }
       bool rare = false;
       for (int r = 0; r < 4; ++r) {
@@ -925,7 +957,8 @@ class Extractor {
             quads.push_back({out, {q4[0], q4[1], q4[2], q4[3]}});
             out += 6;
           };
-          if (quadrant[0].cs == kOneSheet && quadrant[1].cs == kOneSheet && quadrant[2].cs == kOneSheet &&
+          if (quadrant[0].cs == kOneSheet && quadrant[1].cs == kOneSheet &&
+              quadrant[2].cs == kOneSheet &&
               quadrant[3].cs == kOneSheet) {  // a quad of four single-sheet cells: polygon() inline
             const bool reverse = in == mirrored_;
             uint32_t q4[4];
@@ -1033,7 +1066,8 @@ TriMesh dual_contouring(const Volume<T>& field, const DcOptions& options, Progre
   const auto& d = field.grid.dims;
   if (d[0] < 2 || d[1] < 2 || d[2] < 2) return {};
   const InsideBits bits = inside_bits(field, options.iso, progress);
-  return Extractor<T>(&field, bits, field.grid, is_binary(field, options.iso), options, progress).run();
+  return Extractor<T>(&field, bits, field.grid, is_binary(field, options.iso), options, progress)
+      .run();
 }
 
 TriMesh dual_contouring(const Grid& grid, const Components& components, const Component& component,

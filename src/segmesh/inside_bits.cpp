@@ -31,7 +31,8 @@ void column_codes(const uint64_t* const* rows, int64_t w, uint16_t* codes) {
   // so that v[m] holds A[0 .. 15][m]; bit i of byte n of v[m] is then the bit wanted.
   __m128i e[8], f[8], g[8], v[8];
   for (int t = 0; t < 8; ++t) {
-    const __m128i pair = _mm_set_epi64x(static_cast<int64_t>(rows[2 * t + 1][w]), static_cast<int64_t>(rows[2 * t][w]));
+    const __m128i pair = _mm_set_epi64x(static_cast<int64_t>(rows[2 * t + 1][w]),
+                                        static_cast<int64_t>(rows[2 * t][w]));
     e[t] = _mm_unpacklo_epi8(pair, _mm_srli_si128(pair, 8));  // 16 bits m: rows 2t, 2t + 1
   }
   for (int u = 0; u < 4; ++u) {  // 32 bits m: rows 4u .. 4u + 3, m = 0 .. 3, then 4 .. 7
@@ -91,7 +92,8 @@ InsideBits inside_bits(const Volume<T>& field, double iso, Progress& progress) {
   return b;
 }
 
-InsideBits inside_bits(const Components& components, const Component& component, FieldMargin margin) {
+InsideBits inside_bits(const Components& components, const Component& component,
+                       FieldMargin margin) {
   const std::array<int64_t, 3> dims{component.last[0] - component.first[0] + 1 + 2 * margin[0],
                                     component.last[1] - component.first[1] + 1 + 2 * margin[1],
                                     component.last[2] - component.first[2] + 1 + 2 * margin[2]};
@@ -99,7 +101,8 @@ InsideBits inside_bits(const Components& components, const Component& component,
   const int64_t x0 = component.first[0] - margin[0], y0 = component.first[1] - margin[1],
                 z0 = component.first[2] - margin[2];
   for (const VoxelRun& run : components.runs_of(component)) {
-    uint64_t* row = b.bits.data() + static_cast<size_t>(((run.z - z0) * dims[1] + (run.y - y0)) * b.words);
+    uint64_t* row =
+        b.bits.data() + static_cast<size_t>(((run.z - z0) * dims[1] + (run.y - y0)) * b.words);
     const int64_t lo = run.x_begin - x0, hi = run.x_end - x0;  // [lo, hi), hi > lo
     const int64_t wl = lo >> 6, wh = (hi - 1) >> 6;
     const uint64_t first = ~uint64_t{0} << (lo & 63);

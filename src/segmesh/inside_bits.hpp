@@ -30,7 +30,9 @@ struct InsideBits {
   const uint64_t* row(int64_t j, int64_t k) const {
     return bits.data() + static_cast<size_t>((k * dims[1] + j) * words);
   }
-  bool at(int64_t i, int64_t j, int64_t k) const { return (row(j, k)[i >> 6] >> (i & 63) & 1) != 0; }
+  bool at(int64_t i, int64_t j, int64_t k) const {
+    return (row(j, k)[i >> 6] >> (i & 63) & 1) != 0;
+  }
 };
 
 // Bits x and x + 1 of a row (x + 1 may be the first bit of the next word).
@@ -41,7 +43,9 @@ inline unsigned bit_pair(const uint64_t* row, int64_t x) {
 }
 
 // Word w of a row moved down by one bit: its bit b is the row's bit 64 w + b + 1.
-inline uint64_t shifted_word(const uint64_t* row, int64_t w) { return (row[w] >> 1) | (row[w + 1] << 63); }
+inline uint64_t shifted_word(const uint64_t* row, int64_t w) {
+  return (row[w] >> 1) | (row[w + 1] << 63);
+}
 
 // The 64 columns of word w of 16 rows: bit n of codes[b] is bit 64 w + b of rows[n]. (A bit
 // matrix transpose; with SSE2 a byte transpose and 64 movemasks instead of 1024 bit extractions.)

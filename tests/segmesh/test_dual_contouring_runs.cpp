@@ -71,7 +71,8 @@ TEST(DualContouringRuns, WithoutNormalsSameVerticesAndTriangles) {
   const LabelVolume labels = random_labels({70, 20, 16}, 0.5, 5);
   const Components c = find_components(labels, {});
   const TriMesh with = dual_contouring(labels.grid, c, c.components[0], {});
-  const TriMesh without = dual_contouring(labels.grid, c, c.components[0], {.vertex_normals = false});
+  const TriMesh without =
+      dual_contouring(labels.grid, c, c.components[0], {.vertex_normals = false});
   ASSERT_EQ(with.normals.size(), with.positions.size());
   EXPECT_TRUE(without.normals.empty());
   EXPECT_EQ(with.indices, without.indices);

@@ -70,7 +70,8 @@ TEST(InsideBits, ColumnCodesTransposeSixteenRows) {
     column_codes(rows, w, codes);
     for (int b = 0; b < 64; ++b) {
       for (int n = 0; n < 16; ++n) {
-        ASSERT_EQ(codes[b] >> n & 1, rows[n][w] >> b & 1) << "word " << w << " bit " << b << " row " << n;
+        ASSERT_EQ(codes[b] >> n & 1, rows[n][w] >> b & 1)
+            << "word " << w << " bit " << b << " row " << n;
       }
     }
   }
