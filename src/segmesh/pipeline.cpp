@@ -319,7 +319,8 @@ Scene run_pipeline(const Image& image, const MeshingOptions& o, Progress& progre
   t.extract_ms = ms_since(start);
   if (unsmoothed) *unsmoothed = scene;
   if (release) {
-    std::visit([](auto& v) { v.voxels = {}; }, release->volume);
+    // Swapped with an empty vector, so the memory goes (`voxels = {}` would only clear it).
+    std::visit([](auto& v) { decltype(v.voxels)().swap(v.voxels); }, release->volume);
   }
 
   progress.step("smoothing");

@@ -104,6 +104,28 @@ TEST(Pipeline, PartsSitAtTheirLabelsInWorldSpaceOnRotatedAndMirroredGrids) {
   }
 }
 
+TEST(Pipeline, ReleasingFreesTheVoxelsAndMeshesTheSame) {
+  Image kept = label_image(box_and_ball(identity3()));
+  Image released = kept;
+  const Scene a = build_scene(kept, {});
+  const Scene b = build_scene_releasing(released, {});
+  const auto& voxels = std::get<LabelVolume>(released.volume).voxels;
+  EXPECT_TRUE(voxels.empty());
+  EXPECT_EQ(voxels.capacity(), 0u) << "the voxels' memory is still held";
+  EXPECT_EQ(std::get<LabelVolume>(kept.volume).voxels.size(), 30u * 26u * 20u);
+  EXPECT_EQ(released.grid().dims, kept.grid().dims);
+  ASSERT_EQ(a.parts.size(), b.parts.size());
+  for (size_t p = 0; p < a.parts.size(); ++p) {
+    EXPECT_EQ(a.parts[p].mesh.indices, b.parts[p].mesh.indices);
+    ASSERT_EQ(a.parts[p].mesh.positions.size(), b.parts[p].mesh.positions.size());
+    for (size_t i = 0; i < a.parts[p].mesh.positions.size(); ++i) {
+      EXPECT_EQ(a.parts[p].mesh.positions[i].x, b.parts[p].mesh.positions[i].x);
+      EXPECT_EQ(a.parts[p].mesh.positions[i].y, b.parts[p].mesh.positions[i].y);
+      EXPECT_EQ(a.parts[p].mesh.positions[i].z, b.parts[p].mesh.positions[i].z);
+    }
+  }
+}
+
 TEST(Pipeline, NamesRolesAndMaterialsFromDefaultsAndLabelNames) {
   LabelVolume v = empty_labels({12, 12, 12});
   v.at(2, 2, 2) = 1;
