@@ -477,17 +477,15 @@ void smooth_with(TriMesh& mesh, const SmoothOptions& options, int iterations, Pr
   Ticker ticker(progress, iterations);
   Smoother<Index> smoother(graph, o, ticker);
   // Two float triples per vertex (three for the sinc). The mesh's normals are recomputed at the
-  // end, so their storage serves as one of them: less memory, and pages already mapped.
-  std::optional<Vec3fBuffer> own_d, own_scratch, own_l0;
+  // end, so their storage serves as one of them, made here when the mesh has none (the
+  // pipeline's meshes, extracted without normals when smoothing follows): less memory, and one
+  // buffer fewer whose pages are touched for the first time (0.65-0.85 ms per MB on the 2-core
+  // virtual machines: docs/PERFORMANCE.md).
+  std::optional<Vec3fBuffer> own_d, own_l0;
   own_d.emplace(nv);
   Vec3f* d = own_d->data();
-  Vec3f* scratch;
-  if (mesh.normals.size() == nv) {
-    scratch = mesh.normals.data();
-  } else {
-    own_scratch.emplace(nv);
-    scratch = own_scratch->data();
-  }
+  mesh.normals.resize(nv);
+  Vec3f* scratch = mesh.normals.data();
   double gain = 1;
   switch (options.method) {
     case SmoothMethod::laplacian:
@@ -537,7 +535,6 @@ void smooth_with(TriMesh& mesh, const SmoothOptions& options, int iterations, Pr
     });
   }
   own_d.reset();
-  own_scratch.reset();
   write_normals(mesh, adj);
 }
 
