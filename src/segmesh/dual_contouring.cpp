@@ -25,6 +25,7 @@
 #include "segmesh/dual_contouring_table.hpp"
 #include "segmesh/edge_intersection.hpp"
 #include "segmesh/error.hpp"
+#include "segmesh/first_touch.hpp"
 #include "segmesh/inside_bits.hpp"
 #include "segmesh/marching_cubes_table.hpp"
 #include "segmesh/qef.hpp"
@@ -444,9 +445,9 @@ class Extractor {
       throw Error("dual contouring: the surface has more than 4 billion vertices; "
                   "crop the volume or select fewer labels");
     }
-    mesh.positions.resize(vertices);
-    if (normals_) mesh.normals.resize(vertices);
-    mesh.indices.resize(3 * triangle_first_.back());
+    resize_zeroed(mesh.positions, vertices);
+    if (normals_) resize_zeroed(mesh.normals, vertices);
+    resize_zeroed(mesh.indices, 3 * triangle_first_.back());
     if (o_.tolerance_mm > 0) qefs_.resize(sheets);
     emit_vertices(mesh);
     emit_polygons(mesh);

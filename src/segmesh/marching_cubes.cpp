@@ -13,6 +13,7 @@
 #include "segmesh/component_field.hpp"
 #include "segmesh/edge_intersection.hpp"
 #include "segmesh/error.hpp"
+#include "segmesh/first_touch.hpp"
 #include "segmesh/marching_cubes_table.hpp"
 #include "segmesh/row_trim.hpp"
 #include "segmesh/run_scan.hpp"
@@ -68,9 +69,9 @@ class Extractor {
       throw Error("marching cubes: the surface has more than 4 billion vertices; "
                   "crop the volume or select fewer labels");
     }
-    mesh.positions.resize(vertices);
-    if (normals) mesh.normals.resize(vertices);
-    mesh.indices.resize(3 * triangle_first_.back());
+    resize_zeroed(mesh.positions, vertices);
+    if (normals) resize_zeroed(mesh.normals, vertices);
+    resize_zeroed(mesh.indices, 3 * triangle_first_.back());
     fill(mesh);
     return mesh;
   }

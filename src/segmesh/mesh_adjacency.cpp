@@ -9,6 +9,8 @@
 #include <bit>
 #include <limits>
 
+#include "segmesh/first_touch.hpp"
+
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -89,11 +91,21 @@ bool mesh_rows_fit_32(size_t index_count) {
 template <class Index>
 VertexRows<Index> vertex_corners(const std::vector<uint32_t>& idx, size_t nv) {
   VertexRows<Index> rows;
-  rows.offsets.assign(nv + 1, 0);
-  if (idx.empty() || nv == 0) return rows;
+  if (idx.empty() || nv == 0) {
+    rows.offsets.assign(nv + 1, 0);
+    return rows;
+  }
+  // Zeroed in parallel: the first touch of fresh pages is the costly part (first_touch.hpp).
+  rows.offsets.resize(nv + 1);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, nv + 1, kVertexBlock),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      std::fill(rows.offsets.begin() + ptrdiff_t(r.begin()),
+                                rows.offsets.begin() + ptrdiff_t(r.end()), Index{0});
+                    });
 
   std::vector<Chunk> chunks = make_chunks(idx, nv);
-  std::vector<Index> counts(chunks.back().base + chunks.back().range(), 0);
+  std::vector<Index> counts;
+  resize_zeroed(counts, chunks.back().base + chunks.back().range());
 
   // 1. Corners per vertex, per chunk.
   tbb::parallel_for(size_t{0}, chunks.size(), [&](size_t c) {

@@ -14,6 +14,7 @@
 #include <string>
 #include <utility>
 
+#include "segmesh/first_touch.hpp"
 #include "segmesh/mesh_adjacency.hpp"
 #include "segmesh/vec3.hpp"
 
@@ -162,7 +163,7 @@ Adjacency<Index> build_adjacency(const std::vector<uint32_t>& idx, size_t nv, bo
 template <class Index>
 void write_normals(TriMesh& mesh, const Adjacency<Index>& adj) {
   const Vec3f* pos = mesh.positions.data();
-  mesh.normals.resize(mesh.positions.size());
+  resize_zeroed(mesh.normals, mesh.positions.size());
   for_each_vertex(mesh.positions.size(), [&](size_t i) {
     const Vec3d sum = adj.area_normal(mesh.indices, i, [&](size_t j) { return to_d(pos[j]); });
     const double length = norm(sum);
@@ -484,7 +485,7 @@ void smooth_with(TriMesh& mesh, const SmoothOptions& options, int iterations, Pr
   std::optional<Vec3fBuffer> own_d, own_l0;
   own_d.emplace(nv);
   Vec3f* d = own_d->data();
-  mesh.normals.resize(nv);
+  resize_zeroed(mesh.normals, nv);
   Vec3f* scratch = mesh.normals.data();
   double gain = 1;
   switch (options.method) {

@@ -18,6 +18,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "segmesh/first_touch.hpp"
 #include "segmesh_io/volume_checks.hpp"
 
 namespace segmesh::volume_io {
@@ -363,14 +364,16 @@ unsigned char* VoxelSink::stage(size_t prefix, VoxelType type) {
   // File bytes end where the storage ends; the first voxel's bytes start at
   // (stored - size) * count or later, so widening block by block from the front writes only
   // bytes already read.
+  // The whole volume is written at once by the decoder, in one thread: its fresh pages are
+  // first touched from every thread beforehand (first_touch.hpp).
   const size_t elements = count_ + (prefix + stored - 1) / stored + 16;
   unsigned char* storage;
   if (is_float_) {
-    floats_.resize(elements);
+    resize_zeroed(floats_, elements);
     storage = reinterpret_cast<unsigned char*>(floats_.data());
   } else {
     storage = std::visit([&](auto& v) {
-      v.resize(elements);
+      resize_zeroed(v, elements);
       return reinterpret_cast<unsigned char*>(v.data());
     }, ints_);
   }
