@@ -9,6 +9,7 @@
 #include <emmintrin.h>
 #endif
 
+#include "segmesh/first_touch.hpp"
 #include "segmesh/row_trim.hpp"
 
 namespace segmesh {
@@ -19,7 +20,7 @@ InsideBits empty_bits(const std::array<int64_t, 3>& dims) {
   InsideBits b;
   b.dims = dims;
   b.words = (dims[0] + 63) / 64 + 1;
-  b.bits.assign(static_cast<size_t>(b.words * dims[1] * dims[2]), 0);
+  resize_zeroed(b.bits, static_cast<size_t>(b.words * dims[1] * dims[2]));
   return b;
 }
 
