@@ -68,6 +68,11 @@ for input in "${inputs[@]}"; do
   name=$(basename "$input")
   best=1e9; peak=0
   for r in 1 2 3; do
+    # Each run writes a new file with no dirty file data pending: replacing the previous run's
+    # 97 MB output, still being written back, added 50-130 ms to the write step on the test VM
+    # (file-system work, not segmesh's; docs/PERFORMANCE.md).
+    rm -f "$out/$name.glb"
+    sync
     /usr/bin/time -f "%e %M" -o "$out/time.txt" "$build/apps/cli/segmesh" mesh "$input" -o "$out/$name.glb" \
       --smooth hc --iterations 2 --quiet
     read -r wall kb < "$out/time.txt"
