@@ -15,6 +15,7 @@
 #pragma once
 
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -27,12 +28,19 @@ namespace segmesh {
 
 inline constexpr size_t kParallelFirstTouchBytes = size_t{4} << 20;
 
+// The threads a parallel loop here can use: the arena's, capped by a global_control (which the
+// command line's --threads sets and the arena's size does not show).
+inline int first_touch_threads() {
+  const size_t allowed =
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+  return std::min(tbb::this_task_arena::max_concurrency(), static_cast<int>(std::min<size_t>(allowed, 1024)));
+}
+
 template <class T>
 void resize_zeroed(std::vector<T>& v, size_t n) {
   static_assert(std::is_trivially_copyable_v<T>, "raw first touch of the new capacity");
   const size_t old = v.size();
-  if (n > old && (n - old) * sizeof(T) >= kParallelFirstTouchBytes &&
-      tbb::this_task_arena::max_concurrency() > 1) {
+  if (n > old && (n - old) * sizeof(T) >= kParallelFirstTouchBytes && first_touch_threads() > 1) {
     v.reserve(n);
     // One byte per page of the storage reserve() allocated, beyond the elements: raw memory, no
     // object is written (resize creates them next).
