@@ -33,7 +33,8 @@ inline constexpr size_t kParallelFirstTouchBytes = size_t{4} << 20;
 inline int first_touch_threads() {
   const size_t allowed =
       tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
-  return std::min(tbb::this_task_arena::max_concurrency(), static_cast<int>(std::min<size_t>(allowed, 1024)));
+  return std::min(tbb::this_task_arena::max_concurrency(),
+                  static_cast<int>(std::min<size_t>(allowed, 1024)));
 }
 
 template <class T>
