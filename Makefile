@@ -45,7 +45,8 @@ clean:
 
 # AddressSanitizer + UndefinedBehaviorSanitizer over the whole test suite (docs/ROBUSTNESS.md):
 # its own build folder, RelWithDebInfo with -O1 -g1 (line tables: what the reports need; half the
-# compile time of -O2 -g, and the sanitizer build is most of make test) and
+# compile time of -O2 -g, and the sanitizer build is most of make test), without the measurement
+# programs of bench/ (no test runs them), and
 # -fsanitize=address,undefined -fno-sanitize-recover=undefined. Leaks are reported except inside
 # the third-party libraries listed (with the reason) in fuzz/lsan.supp (Mesa's OpenGL drivers,
 # ITK's NRRD reader).
@@ -70,7 +71,7 @@ SANITIZER_CTEST = ctest --test-dir $(ASAN_BUILD_DIR) --output-on-failure -j $(JO
 sanitize: deps
 	@cmake -S . -B $(ASAN_BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 		-DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
-		-DSEGMESH_SANITIZE=ON >/dev/null
+		-DSEGMESH_SANITIZE=ON -DSEGMESH_BUILD_BENCH=OFF >/dev/null
 	@cmake --build $(ASAN_BUILD_DIR) -j $(JOBS)
 	@$(SANITIZER_ENV) $(SANITIZER_CTEST) -E '$(VIEWER_SMOKE)' $(SANITIZE_CTEST_ARGS)
 	@$(SANITIZER_ENV) ASAN_OPTIONS=detect_leaks=0:$(ASAN_CHECKS) $(SANITIZER_CTEST) -R '$(VIEWER_SMOKE)' \
