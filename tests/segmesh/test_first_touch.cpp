@@ -22,9 +22,10 @@ void expect_like_resize(std::vector<T> v, size_t n, int threads) {
   tbb::task_arena(threads).execute([&] { resize_zeroed(v, n); });
   ASSERT_EQ(v.size(), n);
   // (memcmp only when there is something to compare: an empty vector's data() may be null.)
-  if (n > 0)
+  if (n > 0) {
     EXPECT_EQ(0, std::memcmp(v.data(), expected.data(), n * sizeof(T)))
         << "n = " << n << ", threads = " << threads;
+  }
 }
 
 TEST(FirstTouch, ResizeZeroedMatchesResize) {
