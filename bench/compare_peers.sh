@@ -10,6 +10,8 @@
 # Inputs: the big 512x512x203 volume from ../shared/tools/make_big.py, the 512x512x203 phantom and
 # ../shared/data/pelvic_fracture/001 (the left hip fragments).
 #   bench/compare_peers.sh [BUILD_DIR] [OUT_DIR]
+# ROUNDS=N (default 1) repeats each pair of runs N times; Table 1's columns are then the medians
+# of the times and of the ratios taken within each round.
 # Needs Debian's python3-vtk9 python3-nibabel python3-numpy python3-scipy (scripts/install-deps.sh
 # --with-peers). Takes a few minutes; run it on a quiet machine.
 set -euo pipefail
@@ -20,6 +22,7 @@ out="${2:-$(mktemp -d /tmp/segmesh_peers.XXXXXX)}"
 shared="$repo/../shared"
 mkdir -p "$out"
 py=/usr/bin/python3
+rounds="${ROUNDS:-1}"
 
 inputs=()
 if [[ -f "$shared/tools/make_big.py" ]]; then
@@ -37,27 +40,38 @@ echo "| input | threads | VTK discrete FE (s) | segmesh MC (s) | VTK / MC | segm
 echo "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
 for input in "${inputs[@]}"; do
   name=$(basename "$input")
-  rm -f "$out/$name.vtk.jsonl"  # peer_mesh.py appends to its --json file
-  $py "$shared/tools/peer_mesh.py" "$input" --methods vtk_discrete_flying_edges,vtk_discrete_flying_edges_sinc \
-    --threads 1,2 --repeats 3 --json "$out/$name.vtk.jsonl" >/dev/null 2>&1
   for t in 1 2; do
-    "$build/bench/segmesh_step_timing" "$input" "$t" 3 > "$out/$name.segmesh.$t.json"
-    $py - "$out/$name.vtk.jsonl" "$out/$name.segmesh.$t.json" "$t" "$name" <<'PY'
-import json, sys
-vtk_file, ours_file, t, name = sys.argv[1:5]
-extract = sinc = 0.0
-for line in open(vtk_file):
-    d = json.loads(line)
-    if d["method"] == "vtk_discrete_flying_edges":
-        extract += d["extract_s"][t]
-    if d["method"] == "vtk_discrete_flying_edges_sinc":
-        sinc += d["smooth_s"][t]
-o = json.load(open(ours_file))
-mc, comp = o["mc_s"], o["components_s"]
-print(f"| {name} | {t} | {extract:.4f} | {mc:.4f} | {extract / mc:.2f}x | {comp:.4f} | "
-      f"{extract / (comp + mc):.2f}x | {o['dc_s']:.4f} | {o['dc_s'] / mc:.1f} | {o['hc2_s']:.4f} | "
-      f"{sinc:.3f} | {sinc / o['hc2_s']:.1f}x | {o['default_smooth_s']:.3f} | "
-      f"{sinc / o['default_smooth_s']:.1f}x |")
+    # VTK and segmesh at the same thread count back to back, ROUNDS times: the host's load drifts
+    # over minutes, so each ratio is taken within one round and the table shows the medians.
+    for round in $(seq "$rounds"); do
+      rm -f "$out/$name.vtk.$t.$round.jsonl"  # peer_mesh.py appends to its --json file
+      $py "$shared/tools/peer_mesh.py" "$input" --methods vtk_discrete_flying_edges,vtk_discrete_flying_edges_sinc \
+        --threads "$t" --repeats 3 --json "$out/$name.vtk.$t.$round.jsonl" >/dev/null 2>&1
+      "$build/bench/segmesh_step_timing" "$input" "$t" 3 > "$out/$name.segmesh.$t.$round.json"
+    done
+    $py - "$out" "$name" "$t" "$rounds" <<'PY'
+import json, statistics, sys
+out, name, t, rounds = sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4])
+cols = {}
+for r in range(1, rounds + 1):
+    extract = sinc = 0.0
+    for line in open(f"{out}/{name}.vtk.{t}.{r}.jsonl"):
+        d = json.loads(line)
+        if d["method"] == "vtk_discrete_flying_edges":
+            extract += d["extract_s"][t]
+        if d["method"] == "vtk_discrete_flying_edges_sinc":
+            sinc += d["smooth_s"][t]
+    o = json.load(open(f"{out}/{name}.segmesh.{t}.{r}.json"))
+    mc, comp, dc, hc, smooth = o["mc_s"], o["components_s"], o["dc_s"], o["hc2_s"], o["default_smooth_s"]
+    row = {"extract": extract, "mc": mc, "vtk/mc": extract / mc, "comp": comp,
+           "vtk/(comp+mc)": extract / (comp + mc), "dc": dc, "dc/mc": dc / mc, "hc": hc,
+           "sinc": sinc, "sinc/hc": sinc / hc, "smooth": smooth, "sinc/smooth": sinc / smooth}
+    for k, v in row.items():
+        cols.setdefault(k, []).append(v)
+m = {k: statistics.median(v) for k, v in cols.items()}
+print(f"| {name} | {t} | {m['extract']:.4f} | {m['mc']:.4f} | {m['vtk/mc']:.2f}x | {m['comp']:.4f} | "
+      f"{m['vtk/(comp+mc)']:.2f}x | {m['dc']:.4f} | {m['dc/mc']:.1f} | {m['hc']:.4f} | "
+      f"{m['sinc']:.3f} | {m['sinc/hc']:.1f}x | {m['smooth']:.3f} | {m['sinc/smooth']:.1f}x |")
 PY
   done
 done
