@@ -19,7 +19,7 @@ build: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
 
 # After the normal suite, the same suite under AddressSanitizer + UndefinedBehaviorSanitizer
-# (`make sanitize`): measured at about 16 minutes for both builds and both runs from a clean clone on
+# (`make sanitize`): measured at about 19 minutes for both builds and both runs from a clean clone on
 # 2 cores (docs/ROBUSTNESS.md). SANITIZE=0 skips it.
 SANITIZE ?= 1
 test: build
