@@ -445,21 +445,41 @@ Restoration restore_volume(const Adjacency<Index>& adj, const std::vector<uint32
 }
 
 // The centre of the bounding box of the positions (exact: minima and maxima do not depend on the
-// order of evaluation).
+// order of evaluation). Each block reads its positions as a flat run of floats, twelve lanes at a
+// time (four positions: lane k holds coordinate k mod 3), with comparisons and selects that
+// compilers vectorise (std::min on floats they do not): a third of the time of a loop over Vec3f.
 Vec3d box_centre(const std::vector<Vec3f>& p) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
   struct Box {
-    Vec3f lo{std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(),
-             std::numeric_limits<float>::infinity()};
-    Vec3f hi{-std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
-             -std::numeric_limits<float>::infinity()};
+    Vec3f lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
     Box operator+(const Box& o) const {
       return {{std::min(lo.x, o.lo.x), std::min(lo.y, o.lo.y), std::min(lo.z, o.lo.z)},
               {std::max(hi.x, o.hi.x), std::max(hi.y, o.hi.y), std::max(hi.z, o.hi.z)}};
     }
   };
+  static_assert(sizeof(Vec3f) == 3 * sizeof(float));
   const Box box = block_sum<Box>(p.size(), [&](size_t i0, size_t i1) {
+    constexpr size_t kLanes = 12;
+    float lo[kLanes], hi[kLanes];
+    std::fill(lo, lo + kLanes, kInf);
+    std::fill(hi, hi + kLanes, -kInf);
+    const float* f = &p[i0].x;
+    const size_t n = 3 * (i1 - i0);
+    size_t k = 0;
+    for (; k + kLanes <= n; k += kLanes) {
+      for (size_t l = 0; l < kLanes; ++l) {
+        const float v = f[k + l];
+        lo[l] = v < lo[l] ? v : lo[l];
+        hi[l] = v > hi[l] ? v : hi[l];
+      }
+    }
+    for (size_t l = 0; k + l < n; ++l) {  // the last positions, fewer than four
+      lo[l] = std::min(lo[l], f[k + l]);
+      hi[l] = std::max(hi[l], f[k + l]);
+    }
     Box b;
-    for (size_t i = i0; i < i1; ++i) b = b + Box{p[i], p[i]};
+    for (size_t l = 0; l < kLanes; l += 3)
+      b = b + Box{{lo[l], lo[l + 1], lo[l + 2]}, {hi[l], hi[l + 1], hi[l + 2]}};
     return b;
   });
   return 0.5 * (to_d(box.lo) + to_d(box.hi));
