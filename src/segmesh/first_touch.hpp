@@ -11,7 +11,10 @@
 // speed (7 ms for 125 MB). Same result as resize(n): the new elements are zero.
 //
 // Below kParallelFirstTouchBytes of growth, or with one thread (where the extra pass would only
-// cost), it is a plain resize.
+// cost), it is a plain resize. The bound is 1 MB (256 pages, four tasks of 64): the pelvis's two
+// parts have 2.6 and 1.3 MB of output, and their Marching Cubes at two threads took 2.9 ms with a
+// 4 MB bound and 2.6 ms with this one (single runs, docs/PERFORMANCE.md); the phantom's ten parts,
+// extracted side by side, were no slower.
 #pragma once
 
 #include <tbb/blocked_range.h>
@@ -26,7 +29,7 @@
 
 namespace segmesh {
 
-inline constexpr size_t kParallelFirstTouchBytes = size_t{4} << 20;
+inline constexpr size_t kParallelFirstTouchBytes = size_t{1} << 20;
 
 // The threads a parallel loop here can use: the arena's, capped by a global_control (which the
 // command line's --threads sets and the arena's size does not show).
