@@ -6,6 +6,8 @@
 #                VTK does not have, are timed on their own and shown added too)
 #   Dual Contouring                                     vs  segmesh's own Marching Cubes
 #   smoothing    segmesh HC x2 and default smoothing    vs  VTK windowed sinc, 20 iterations (Slicer)
+#                and, as Slicer runs it, the sinc plus vtkPolyDataNormals (bench/slicer_normals.py:
+#                segmesh's smoothing recomputes the normals within its time, VTK's sinc does not)
 #   whole        `segmesh mesh IN -o OUT.glb --smooth hc --iterations 2` wall time and peak memory
 # Inputs: the big 512x512x203 volume from ../shared/tools/make_big.py, the 512x512x203 phantom and
 # ../shared/data/pelvic_fracture/001 (the left hip fragments).
@@ -36,8 +38,8 @@ inputs+=("$out/phantom.nii.gz")
 [[ -f "$shared/data/pelvic_fracture/001/001_LI_mask.nii.gz" ]] &&
   inputs+=("$shared/data/pelvic_fracture/001/001_LI_mask.nii.gz")
 
-echo "| input | threads | VTK discrete FE (s) | segmesh MC (s) | VTK / MC | segmesh components (s) | VTK / (components + MC) | segmesh DC (s) | DC / MC | segmesh HC x2 (s) | VTK sinc x20 (s) | sinc / HC x2 | segmesh default smoothing (s) | sinc / default |"
-echo "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
+echo "| input | threads | VTK discrete FE (s) | segmesh MC (s) | VTK / MC | segmesh components (s) | VTK / (components + MC) | segmesh DC (s) | DC / MC | segmesh HC x2 (s) | VTK sinc x20 (s) | sinc / HC x2 | segmesh default smoothing (s) | sinc / default | VTK normals (s) | (sinc + normals) / HC x2 |"
+echo "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
 for input in "${inputs[@]}"; do
   name=$(basename "$input")
   for t in 1 2; do
@@ -47,6 +49,7 @@ for input in "${inputs[@]}"; do
       rm -f "$out/$name.vtk.$t.$round.jsonl"  # peer_mesh.py appends to its --json file
       $py "$shared/tools/peer_mesh.py" "$input" --methods vtk_discrete_flying_edges,vtk_discrete_flying_edges_sinc \
         --threads "$t" --repeats 3 --json "$out/$name.vtk.$t.$round.jsonl" >/dev/null 2>&1
+      $py "$here/slicer_normals.py" "$input" --threads "$t" --repeats 3 > "$out/$name.normals.$t.$round.json"
       "$build/bench/segmesh_step_timing" "$input" "$t" 3 > "$out/$name.segmesh.$t.$round.json"
     done
     $py - "$out" "$name" "$t" "$rounds" <<'PY'
@@ -62,16 +65,19 @@ for r in range(1, rounds + 1):
         if d["method"] == "vtk_discrete_flying_edges_sinc":
             sinc += d["smooth_s"][t]
     o = json.load(open(f"{out}/{name}.segmesh.{t}.{r}.json"))
+    normals = json.load(open(f"{out}/{name}.normals.{t}.{r}.json"))["normals_s"]
     mc, comp, dc, hc, smooth = o["mc_s"], o["components_s"], o["dc_s"], o["hc2_s"], o["default_smooth_s"]
     row = {"extract": extract, "mc": mc, "vtk/mc": extract / mc, "comp": comp,
            "vtk/(comp+mc)": extract / (comp + mc), "dc": dc, "dc/mc": dc / mc, "hc": hc,
-           "sinc": sinc, "sinc/hc": sinc / hc, "smooth": smooth, "sinc/smooth": sinc / smooth}
+           "sinc": sinc, "sinc/hc": sinc / hc, "smooth": smooth, "sinc/smooth": sinc / smooth,
+           "normals": normals, "slicer/hc": (sinc + normals) / hc}
     for k, v in row.items():
         cols.setdefault(k, []).append(v)
 m = {k: statistics.median(v) for k, v in cols.items()}
 print(f"| {name} | {t} | {m['extract']:.4f} | {m['mc']:.4f} | {m['vtk/mc']:.2f}x | {m['comp']:.4f} | "
       f"{m['vtk/(comp+mc)']:.2f}x | {m['dc']:.4f} | {m['dc/mc']:.1f} | {m['hc']:.4f} | "
-      f"{m['sinc']:.3f} | {m['sinc/hc']:.1f}x | {m['smooth']:.3f} | {m['sinc/smooth']:.1f}x |")
+      f"{m['sinc']:.3f} | {m['sinc/hc']:.1f}x | {m['smooth']:.3f} | {m['sinc/smooth']:.1f}x | "
+      f"{m['normals']:.3f} | {m['slicer/hc']:.1f}x |")
 PY
   done
 done
