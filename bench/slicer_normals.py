@@ -6,50 +6,39 @@ vtkBinaryLabelmapToClosedSurfaceConversionRule.cxx) ends, with its default "comp
 normals" on, with vtkPolyDataNormals (ConsistencyOn, SplittingOff) on the smoothed mesh.
 ../shared/tools/peer_mesh.py times the extraction and the smoothing but not this step, while
 segmesh's smoothing recomputes the normals inside its own time. This script makes the smoothed
-surface of every label as peer_mesh.py does (each label cropped to its box and padded by one voxel,
-vtkDiscreteFlyingEdges3D, vtkWindowedSincPolyDataFilter with Slicer's settings: 20 iterations,
-pass band 0.01, boundary and feature-edge smoothing off, non-manifold smoothing on, normalised
-coordinates), untimed, and times only the normals (best of --repeats, summed over the labels).
-Slicer's IJK-to-world transform between the two is not timed either.
+surface of every label with peer_mesh.py's own functions and defaults (the label cropped to its
+box and padded by one voxel, vtkDiscreteFlyingEdges3D, vtkWindowedSincPolyDataFilter with
+Slicer's settings), so it is the surface peer_mesh.py timed, untimed here, and times only the
+normals (best of --repeats, summed over the labels). Slicer's IJK-to-world transform between the
+two is not timed either.
 
     slicer_normals.py LABELMAP --threads T [--repeats N]
 
 Prints one JSON object: {"threads": T, "normals_s": ..., "labels": ..., "points": ...}.
-Needs Debian's python3-vtk9, python3-nibabel and python3-numpy (scripts/install-deps.sh
---with-peers).
+Needs ../shared/tools/peer_mesh.py beside the repository and Debian's python3-vtk9,
+python3-nibabel and python3-numpy (scripts/install-deps.sh --with-peers).
 """
 import argparse
 import json
+import pathlib
 import sys
 import time
 
-import nibabel
 import numpy
 import vtk
-from vtk.util import numpy_support
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "shared" / "tools"))
+import peer_mesh  # noqa: E402
 
 
-def smoothed_surface(mask, spacing):
-    """The label's surface after Slicer's windowed-sinc smoothing (untimed)."""
-    image = vtk.vtkImageData()
-    image.SetDimensions(*mask.shape)
-    image.SetSpacing(*spacing)
-    image.GetPointData().SetScalars(numpy_support.numpy_to_vtk(
-        mask.ravel(order="F"), deep=True, array_type=vtk.VTK_UNSIGNED_CHAR))
-    extract = vtk.vtkDiscreteFlyingEdges3D()
-    extract.SetInputData(image)
-    extract.SetValue(0, 1)
-    extract.ComputeNormalsOff()
-    extract.ComputeGradientsOff()
-    extract.ComputeScalarsOff()
-    smooth = vtk.vtkWindowedSincPolyDataFilter()
-    smooth.SetInputConnection(extract.GetOutputPort())
-    smooth.SetNumberOfIterations(20)
-    smooth.SetPassBand(0.01)
-    smooth.BoundarySmoothingOff()
-    smooth.FeatureEdgeSmoothingOff()
-    smooth.NonManifoldSmoothingOn()
-    smooth.NormalizeCoordinatesOn()
+def smoothed_surface(labels, value, box, spacing, options):
+    """The label's surface after Slicer's windowed-sinc smoothing, as peer_mesh.py makes it."""
+    lo, hi = box
+    sub = peer_mesh.crop_pad(labels, lo, hi, True, 0)
+    image = peer_mesh.to_vtk_image(sub, spacing, (lo - 1) * numpy.asarray(spacing))
+    extract = peer_mesh.build_extractor("discrete_fe", image, None, value, None)
+    extract.Update()
+    smooth = peer_mesh.build_smoother("sinc", extract.GetOutput(), options)
     smooth.Update()
     return smooth.GetOutput()
 
@@ -74,18 +63,13 @@ def main(argv):
     ap.add_argument("--repeats", type=int, default=3)
     args = ap.parse_args(argv)
     vtk.vtkSMPTools.Initialize(args.threads)
-    image = nibabel.load(args.labelmap)
-    labels = numpy.asarray(image.dataobj)
-    spacing = [float(s) for s in image.header.get_zooms()[:3]]
-    total, points = 0.0, 0
+    labels, spacing, _ = peer_mesh.load_volume(args.labelmap)
+    # peer_mesh.py's defaults: Slicer's smoothing factor (pass band 0.01), 20 iterations.
+    options = peer_mesh.parse_args([args.labelmap])
     values = [int(v) for v in numpy.unique(labels) if v != 0]
-    for value in values:
-        where = numpy.nonzero(labels == value)
-        lo = [int(w.min()) for w in where]
-        hi = [int(w.max()) + 1 for w in where]
-        crop = labels[lo[0]:hi[0], lo[1]:hi[1], lo[2]:hi[2]] == value
-        mask = numpy.pad(crop, 1).astype(numpy.uint8)  # its box and one voxel of background
-        surface = smoothed_surface(mask, spacing)
+    total, points = 0.0, 0
+    for value, box in peer_mesh.label_boxes(labels, values).items():
+        surface = smoothed_surface(labels, value, box, spacing, options)
         points += surface.GetNumberOfPoints()
         total += time_normals(surface, args.repeats)
     print(json.dumps({"threads": args.threads, "normals_s": total, "labels": len(values),
