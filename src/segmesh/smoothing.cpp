@@ -268,12 +268,15 @@ class Smoother {
   // lap = avg q_j: b_i = lap_i - (alpha o_i + (1 - alpha) q_i) = L0_i + avg D_j - (1 - alpha) D_i,
   // and p_i - o_i = lap_i - o_i - beta b_i - (1 - beta) avg b_j
   //              = (1 - beta) (b_i - avg b_j) + (1 - alpha) D_i.
-  // Two sweeps per iteration, the second in place (vertex i reads its own D_i only).
+  // Two sweeps per iteration, the second in place (vertex i reads its own D_i only). The first
+  // iteration's b is L0 itself, and the second sweep leaves b as it is, so the second iteration
+  // takes L0 from b (in place: vertex i reads its own b_i) and gathers only D_j, not o_j as well:
+  // a third less to read in that sweep. Later iterations recompute L0 from o.
   void hc(int iterations, double alpha, double beta, Vec3f* d, Vec3f* b) {
     const float keep = static_cast<float>(1 - alpha), spread = static_cast<float>(1 - beta);
     for (int it = 0; it < iterations; ++it) {
       ticker_.begin();
-      const bool first = it == 0;
+      const bool first = it == 0, second = it == 1;
       for_each_vertex(n_, [&](size_t i) {
         const Index* j = g_.begin(i);
         const Index* end = g_.end(i);
@@ -282,13 +285,17 @@ class Smoother {
           if (first) d[i] = Vec3f{};
           return;
         }
-        const Vec3f oi = o_[i];
         const float inv = 1.0f / float(end - j);
         Vec3f sum{};
         if (first) {
+          const Vec3f oi = o_[i];
           for (; j != end; ++j) sum = add(sum, sub(o_[*j], oi));
           b[i] = mul(inv, sum);
+        } else if (second) {
+          for (; j != end; ++j) sum = add(sum, d[*j]);
+          b[i] = sub(add(b[i], mul(inv, sum)), mul(keep, d[i]));
         } else {
+          const Vec3f oi = o_[i];
           for (; j != end; ++j) sum = add(sum, add(sub(o_[*j], oi), d[*j]));
           b[i] = sub(mul(inv, sum), mul(keep, d[i]));
         }
