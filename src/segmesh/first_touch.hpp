@@ -1,4 +1,4 @@
-// Growing a large array with its fresh memory touched by every thread.
+// Growing a large array with its fresh memory made resident first, by every thread.
 //
 // The first write to a page the process has never used costs a page fault in which the kernel
 // finds and zeroes a page: 0.65-0.85 ms per MB on the 2-core virtual machines segmesh is measured
@@ -6,15 +6,18 @@
 // elements from the calling thread, so every fault of an output array is taken in that one
 // thread, while the parallel loop that fills the array afterwards waits. Faults taken by several
 // threads at once proceed side by side (125 MB first touched in 92-104 ms from one thread, 54-59 ms
-// from two, docs/PERFORMANCE.md). resize_zeroed therefore first writes one byte per new page from
-// a parallel loop and only then resizes; the zero fill then runs over resident pages at memory
-// speed (7 ms for 125 MB). Same result as resize(n): the new elements are zero.
+// from two, docs/PERFORMANCE.md). And a page range the kernel is asked to populate in one call
+// costs about two thirds of the same pages faulted one write at a time. first_touch therefore
+// asks the kernel for each task's pages (MADV_POPULATE_WRITE), from a parallel loop, before the
+// array's first pass; resize_zeroed does that and only then resizes, so the zero fill runs over
+// resident pages at memory speed (7 ms for 125 MB). Same result as resize(n): the new elements
+// are zero. On kernels before 5.14, which refuse the request, one byte per page is written.
 //
-// Below kParallelFirstTouchBytes of growth, or with one thread (where the extra pass would only
-// cost), it is a plain resize. The bound is 1 MB (256 pages, four tasks of 64): the pelvis's two
-// parts have 2.6 and 1.3 MB of output, and their Marching Cubes at two threads took 2.9 ms with a
-// 4 MB bound and 2.6 ms with this one (single runs, docs/PERFORMANCE.md); the phantom's ten parts,
-// extracted side by side, were no slower.
+// Below kParallelFirstTouchBytes nothing is done beforehand (resize_zeroed: a plain resize), and
+// with one thread the pages are populated by one call from the calling thread. The bound is 1 MB (256 pages,
+// four tasks of 64): the pelvis's two parts have 2.6 and 1.3 MB of output, and their Marching
+// Cubes at two threads took 2.9 ms with a 4 MB bound and 2.6 ms with this one (single runs,
+// docs/PERFORMANCE.md); the phantom's ten parts, extracted side by side, were no slower.
 #pragma once
 
 #include <tbb/blocked_range.h>
@@ -22,7 +25,10 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <sys/mman.h>
+
 #include <algorithm>
+#include <cstdint>
 #include <cstddef>
 #include <type_traits>
 #include <vector>
@@ -40,22 +46,52 @@ inline int first_touch_threads() {
                   static_cast<int>(std::min<size_t>(allowed, 1024)));
 }
 
+// Makes the pages of [data, data + bytes) resident, from every thread (first_touch_threads), when
+// they span at least kParallelFirstTouchBytes (smaller ranges are left to their first pass).
+// Each task asks the kernel to fault its page range in at once (Linux's MADV_POPULATE_WRITE, 5.14
+// and later), which costs about two thirds of faulting the same pages one write at a time
+// (64 MB: 31 against 45 ms on the Intel host of docs/PERFORMANCE.md); where the kernel refuses,
+// it writes one byte per page. For raw storage that holds no object yet: the bytes' values are
+// unspecified afterwards.
+inline void first_touch(void* data, size_t bytes) {
+  if (bytes < kParallelFirstTouchBytes) return;
+  constexpr uintptr_t kPage = 4096;
+  const uintptr_t begin = reinterpret_cast<uintptr_t>(data), end = begin + bytes;
+  auto touch = [](uintptr_t lo, uintptr_t hi) {  // lo < hi
+#if defined(__linux__)
+    constexpr int kPopulateWrite = 23;  // MADV_POPULATE_WRITE, not in every libc's headers
+    const uintptr_t lo_page = (lo + kPage - 1) & ~(kPage - 1), hi_page = hi & ~(kPage - 1);
+    if (hi_page > lo_page &&
+        madvise(reinterpret_cast<void*>(lo_page), hi_page - lo_page, kPopulateWrite) == 0) {
+      // The partial pages at both ends, by hand.
+      if (lo < lo_page) *reinterpret_cast<volatile char*>(lo) = 0;
+      if (hi > hi_page) *reinterpret_cast<volatile char*>(hi_page) = 0;
+      return;
+    }
+#endif
+    for (uintptr_t p = lo; p < hi; p = (p & ~(kPage - 1)) + kPage)
+      *reinterpret_cast<volatile char*>(p) = 0;
+  };
+  if (first_touch_threads() <= 1) {
+    touch(begin, end);
+    return;
+  }
+  tbb::parallel_for(tbb::blocked_range<uintptr_t>(begin / kPage, (end - 1) / kPage + 1, 64),
+                    [&](const tbb::blocked_range<uintptr_t>& pages) {
+                      touch(std::max(begin, pages.begin() * kPage), std::min(end, pages.end() * kPage));
+                    });
+}
+
+// resize(n), with the new elements' pages made resident by first_touch before they are zeroed,
+// when they span at least kParallelFirstTouchBytes.
 template <class T>
 void resize_zeroed(std::vector<T>& v, size_t n) {
   static_assert(std::is_trivially_copyable_v<T>, "raw first touch of the new capacity");
   const size_t old = v.size();
-  if (n > old && (n - old) * sizeof(T) >= kParallelFirstTouchBytes && first_touch_threads() > 1) {
+  if (n > old && (n - old) * sizeof(T) >= kParallelFirstTouchBytes) {
     v.reserve(n);
-    // One byte per page of the storage reserve() allocated, beyond the elements: raw memory, no
-    // object is written (resize creates them next).
-    volatile char* storage = reinterpret_cast<char*>(v.data());
-    const size_t begin = old * sizeof(T), end = n * sizeof(T);
-    constexpr size_t kPage = 4096;
-    tbb::parallel_for(tbb::blocked_range<size_t>(begin / kPage, (end - 1) / kPage + 1, 64),
-                      [&](const tbb::blocked_range<size_t>& pages) {
-                        for (size_t p = pages.begin(); p != pages.end(); ++p)
-                          storage[std::max(begin, p * kPage)] = 0;
-                      });
+    // Raw storage beyond the elements: no object is read or written (resize creates them next).
+    first_touch(reinterpret_cast<char*>(v.data()) + old * sizeof(T), (n - old) * sizeof(T));
   }
   v.resize(n);
 }

@@ -99,8 +99,10 @@ VertexRows<Index> vertex_corners(const std::vector<uint32_t>& idx, size_t nv) {
     rows.offsets.assign(nv + 1, 0);
     return rows;
   }
-  // Zeroed in parallel: the first touch of fresh pages is the costly part (first_touch.hpp).
+  // Made resident and zeroed in parallel: the first touch of fresh pages is the costly part
+  // (first_touch.hpp).
   rows.offsets.resize(nv + 1);
+  first_touch(rows.offsets.data(), rows.offsets.size() * sizeof(Index));
   tbb::parallel_for(tbb::blocked_range<size_t>(0, nv + 1, kVertexBlock),
                     [&](const tbb::blocked_range<size_t>& r) {
                       std::fill(rows.offsets.begin() + ptrdiff_t(r.begin()),
@@ -158,6 +160,7 @@ VertexRows<Index> vertex_corners(const std::vector<uint32_t>& idx, size_t nv) {
 
   // 3. Fill: each chunk writes its corners, in triangle order, from its first slots on.
   rows.entries.resize(idx.size());
+  first_touch(rows.entries.data(), rows.entries.size() * sizeof(Index));
   tbb::parallel_for(size_t{0}, chunks.size(), [&](size_t c) {
     const Chunk& ch = chunks[c];
     Index* cnt = counts.data() + ch.base;

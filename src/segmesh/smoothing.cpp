@@ -208,7 +208,9 @@ inline Vec3f fcross(Vec3f a, Vec3f b) {
 // Vec3f is an implicit-lifetime aggregate, so the storage holds its objects from the start).
 class Vec3fBuffer {
  public:
-  explicit Vec3fBuffer(size_t n) : p_(static_cast<Vec3f*>(::operator new(n * sizeof(Vec3f)))) {}
+  explicit Vec3fBuffer(size_t n) : p_(static_cast<Vec3f*>(::operator new(n * sizeof(Vec3f)))) {
+    first_touch(p_.get(), n * sizeof(Vec3f));
+  }
   Vec3f* data() const { return p_.get(); }
 
  private:

@@ -1,9 +1,10 @@
 // resize_zeroed: the same result as std::vector::resize (old elements kept, new ones zero) for
 // any growth, shrink and thread count, including sizes around the parallel threshold and the
-// page size.
+// page size. first_touch: every page of its range resident afterwards, nothing outside written.
 #include "segmesh/first_touch.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/mman.h>
 #include <tbb/task_arena.h>
 
 #include <cstdint>
@@ -51,6 +52,31 @@ TEST(FirstTouch, ResizeZeroedMatchesResize) {
     ASSERT_EQ(positions[i].x, 0.0f);
     ASSERT_EQ(positions[i].y, 0.0f);
     ASSERT_EQ(positions[i].z, 0.0f);
+  }
+}
+
+TEST(FirstTouch, MakesEveryPageOfItsRangeResidentAndWritesNothingOutside) {
+  constexpr size_t kPage = 4096, kPages = 1024;  // 4 MB of fresh memory per round
+  for (int threads : {1, 2}) {
+    void* map = mmap(nullptr, kPages * kPage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS,
+                     -1, 0);
+    ASSERT_NE(map, MAP_FAILED);
+    auto* bytes = static_cast<unsigned char*>(map);
+    // Marks just outside the range, on the partial pages at both of its ends.
+    const size_t first = 3 * kPage + 100, last = (kPages - 2) * kPage + 7;  // [first, last)
+    bytes[first - 1] = 0xa5;
+    bytes[last] = 0x5a;
+    tbb::task_arena(threads).execute([&] { first_touch(bytes + first, last - first); });
+    std::vector<unsigned char> resident(kPages);
+    ASSERT_EQ(0, mincore(map, kPages * kPage, resident.data()));
+    for (size_t p = first / kPage; p <= (last - 1) / kPage; ++p)
+      ASSERT_TRUE(resident[p] & 1) << "page " << p << ", threads = " << threads;
+    // The pages wholly outside were never touched, and the marks are as written.
+    EXPECT_FALSE(resident[0] & 1);
+    EXPECT_FALSE(resident[kPages - 1] & 1);
+    EXPECT_EQ(bytes[first - 1], 0xa5);
+    EXPECT_EQ(bytes[last], 0x5a);
+    munmap(map, kPages * kPage);
   }
 }
 
