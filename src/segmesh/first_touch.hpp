@@ -14,22 +14,21 @@
 // are zero. On kernels before 5.14, which refuse the request, one byte per page is written.
 //
 // Below kParallelFirstTouchBytes nothing is done beforehand (resize_zeroed: a plain resize), and
-// with one thread the pages are populated by one call from the calling thread. The bound is 1 MB (256 pages,
-// four tasks of 64): the pelvis's two parts have 2.6 and 1.3 MB of output, and their Marching
-// Cubes at two threads took 2.9 ms with a 4 MB bound and 2.6 ms with this one (single runs,
-// docs/PERFORMANCE.md); the phantom's ten parts, extracted side by side, were no slower.
+// with one thread the pages are populated by one call from the calling thread. The bound is 1 MB
+// (256 pages, four tasks of 64): the pelvis's two parts have 2.6 and 1.3 MB of output, and their
+// Marching Cubes at two threads took 2.9 ms with a 4 MB bound and 2.6 ms with this one (single
+// runs, docs/PERFORMANCE.md); the phantom's ten parts, extracted side by side, were no slower.
 #pragma once
 
+#include <sys/mman.h>
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include <sys/mman.h>
-
 #include <algorithm>
-#include <cstdint>
 #include <cstddef>
+#include <cstdint>
 #include <type_traits>
 #include <vector>
 
@@ -78,7 +77,8 @@ inline void first_touch(void* data, size_t bytes) {
   }
   tbb::parallel_for(tbb::blocked_range<uintptr_t>(begin / kPage, (end - 1) / kPage + 1, 64),
                     [&](const tbb::blocked_range<uintptr_t>& pages) {
-                      touch(std::max(begin, pages.begin() * kPage), std::min(end, pages.end() * kPage));
+                      touch(std::max(begin, pages.begin() * kPage),
+                            std::min(end, pages.end() * kPage));
                     });
 }
 
