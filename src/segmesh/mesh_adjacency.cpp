@@ -8,8 +8,10 @@
 #include <atomic>
 #include <bit>
 #include <limits>
+#include <tuple>
 
 #include "segmesh/first_touch.hpp"
+#include "segmesh/triangle_scatter.hpp"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -47,17 +49,7 @@ std::vector<Chunk> make_chunks(const std::vector<uint32_t>& idx, size_t nv) {
     chunks[c].last = nt * (c + 1) / count;
   }
   tbb::parallel_for(size_t{0}, count, [&](size_t c) {
-    // Signed comparisons of the ids with the top bit flipped (the same order as unsigned ones):
-    // compilers vectorise these with baseline SSE2, which has no unsigned 32-bit minimum.
-    constexpr uint32_t kFlip = 0x80000000u;
-    int32_t lo = std::numeric_limits<int32_t>::max(), hi = std::numeric_limits<int32_t>::min();
-    for (size_t h = 3 * chunks[c].first; h != 3 * chunks[c].last; ++h) {
-      const auto v = static_cast<int32_t>(idx[h] ^ kFlip);
-      lo = v < lo ? v : lo;
-      hi = v > hi ? v : hi;
-    }
-    chunks[c].lo = static_cast<uint32_t>(lo) ^ kFlip;
-    chunks[c].hi = static_cast<uint32_t>(hi) ^ kFlip;
+    std::tie(chunks[c].lo, chunks[c].hi) = vertex_range(idx, chunks[c].first, chunks[c].last);
   });
   // Scattered vertex ids: merge neighbouring chunks until the counters fit in about 2 per vertex.
   auto total = [&] {

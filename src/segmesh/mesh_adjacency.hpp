@@ -1,7 +1,7 @@
-// Vertex-to-triangle adjacency for the per-vertex passes of smoothing (smoothing.cpp) and the mesh
-// measures (mesh_measures.cpp): compressed rows of the triangle corners at each vertex, and, for
-// closed oriented manifold meshes (what Marching Cubes and Dual Contouring produce), the ring of
-// each vertex's neighbours in fan order, which holds the neighbour set and the triangles at once.
+// Vertex-to-triangle adjacency for the mesh measures (mesh_measures.cpp): compressed rows of the
+// triangle corners at each vertex, and, for closed oriented manifold meshes (what Marching Cubes
+// and Dual Contouring produce), the ring of each vertex's neighbours in fan order, which holds
+// the neighbour set and the triangles at once.
 //
 // Building the rows is a transpose of the index array (corner -> vertex), done in parallel
 // without atomics and without sorting: the triangles are cut into a few chunks; each chunk counts
@@ -15,7 +15,9 @@
 //
 // Cost: three reads of the index array and one scattered write of the rows; memory: the rows
 // (4 bytes per vertex plus 4 per corner: 12 per triangle) and the counters while building.
-// Measured on the 5.2 M-triangle part of make_big.py's volume: see smoothing.hpp.
+// (Smoothing used these rows until it moved to sums over the triangles, triangle_scatter.hpp: on
+// the 5.2 M-triangle part of make_big.py's volume building them took about 155 ms at one thread,
+// more than the four sweeps of HC x2; docs/PERFORMANCE.md.)
 #pragma once
 
 #include <cstddef>

@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
 #include <memory>
+#include <new>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
@@ -15,7 +17,7 @@
 #include <utility>
 
 #include "segmesh/first_touch.hpp"
-#include "segmesh/mesh_adjacency.hpp"
+#include "segmesh/triangle_scatter.hpp"
 #include "segmesh/vec3.hpp"
 
 namespace segmesh {
@@ -49,127 +51,8 @@ T block_sum(size_t n, F&& f) {
   return total;
 }
 
-inline Vec3d to_d(const Vec3f& v) { return {v.x, v.y, v.z}; }
-inline Vec3d to_d(const Vec3d& v) { return v; }
-template <class T>
-T from_d(const Vec3d& v);
-template <>
-inline Vec3f from_d<Vec3f>(const Vec3d& v) { return to_float(v); }
-template <>
-inline Vec3d from_d<Vec3d>(const Vec3d& v) { return v; }
-
-// The mean of x over a non-empty row, summed in double.
-template <class Index, class V>
-inline Vec3d row_mean(const Index* first, const Index* last, const V* x) {
-  double sx = 0, sy = 0, sz = 0;
-  for (const Index* j = first; j != last; ++j) {
-    const V& p = x[*j];
-    sx += p.x;
-    sy += p.y;
-    sz += p.z;
-  }
-  const double inv = 1.0 / double(last - first);
-  return {sx * inv, sy * inv, sz * inv};
-}
-
-// The vertex graph and the triangles at each vertex. Closed oriented manifold meshes (Marching
-// Cubes, Dual Contouring) keep one array: each vertex's neighbours in fan order, consecutive
-// neighbours spanning its triangles. Other meshes keep the corner rows for the triangles and
-// separate rows of neighbours (the other corners of the vertex's triangles, each once, sorted,
-// the vertex itself excluded).
-template <class Index>
-struct Adjacency {
-  VertexRows<Index> rows;  // rings, or corner rows
-  bool fans = false;
-  VertexRows<Index> neighbours;  // meshes that are not closed fans only
-
-  const VertexRows<Index>& graph() const { return fans ? rows : neighbours; }
-
-  // Twice the area vector of the triangles at vertex i: sum of (b - p_i) x (c - p_i) over its
-  // triangles (i, b, c), for positions pos(j) (double).
-  template <class Pos>
-  Vec3d area_normal(const std::vector<uint32_t>& idx, size_t i, Pos&& pos) const {
-    Vec3d sum{};
-    const size_t d = rows.size(i);
-    if (d == 0) return sum;
-    const Vec3d p = pos(i);
-    const Index* r = rows.begin(i);
-    if (fans) {
-      const Vec3d first = pos(r[0]) - p;
-      Vec3d prev = first;
-      for (size_t k = 1; k < d; ++k) {
-        const Vec3d cur = pos(r[k]) - p;
-        sum = sum + cross(prev, cur);
-        prev = cur;
-      }
-      return sum + cross(prev, first);
-    }
-    for (size_t k = 0; k < d; ++k)
-      sum = sum + cross(pos(corner_next(idx, r[k])) - p, pos(corner_prev(idx, r[k])) - p);
-    return sum;
-  }
-};
-
-// Rows of unique neighbours from corner rows: two parallel passes (count, fill), each gathering a
-// vertex's corners into a per-task buffer; deterministic because each row is a sorted set.
-template <class Index>
-VertexRows<Index> unique_neighbours(const std::vector<uint32_t>& idx, const VertexRows<Index>& corners) {
-  const size_t nv = corners.offsets.size() - 1;
-  auto gather = [&](size_t i, std::vector<uint32_t>& buffer) {
-    buffer.clear();
-    for (const Index* c = corners.begin(i); c != corners.end(i); ++c) {
-      for (const uint32_t v : {corner_next(idx, *c), corner_prev(idx, *c)})
-        if (v != i) buffer.push_back(v);
-    }
-    std::sort(buffer.begin(), buffer.end());
-    buffer.erase(std::unique(buffer.begin(), buffer.end()), buffer.end());
-  };
-  VertexRows<Index> rows;
-  rows.offsets.assign(nv + 1, 0);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, nv, kVertexGrain),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      std::vector<uint32_t> buffer;
-                      for (size_t i = r.begin(); i != r.end(); ++i) {
-                        gather(i, buffer);
-                        rows.offsets[i + 1] = static_cast<Index>(buffer.size());
-                      }
-                    });
-  for (size_t i = 0; i < nv; ++i) rows.offsets[i + 1] += rows.offsets[i];
-  rows.entries.resize(rows.offsets[nv]);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, nv, kVertexGrain),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      std::vector<uint32_t> buffer;
-                      for (size_t i = r.begin(); i != r.end(); ++i) {
-                        gather(i, buffer);
-                        std::copy(buffer.begin(), buffer.end(),
-                                  rows.entries.begin() + static_cast<ptrdiff_t>(rows.offsets[i]));
-                      }
-                    });
-  return rows;
-}
-
-template <class Index>
-Adjacency<Index> build_adjacency(const std::vector<uint32_t>& idx, size_t nv, bool with_neighbours) {
-  Adjacency<Index> a;
-  a.rows = vertex_corners<Index>(idx, nv);
-  a.fans = corners_to_rings(idx, a.rows);
-  if (a.fans) return a;
-  a.rows = vertex_corners<Index>(idx, nv);  // the failed conversion left them half rewritten
-  if (with_neighbours) a.neighbours = unique_neighbours(idx, a.rows);
-  return a;
-}
-
-// Unit normals from the area-weighted sum at each vertex; (0, 0, 1) where that sum vanishes.
-template <class Index>
-void write_normals(TriMesh& mesh, const Adjacency<Index>& adj) {
-  const Vec3f* pos = mesh.positions.data();
-  resize_zeroed(mesh.normals, mesh.positions.size());
-  for_each_vertex(mesh.positions.size(), [&](size_t i) {
-    const Vec3d sum = adj.area_normal(mesh.indices, i, [&](size_t j) { return to_d(pos[j]); });
-    const double length = norm(sum);
-    mesh.normals[i] =
-        length > 0 && std::isfinite(length) ? to_float((1.0 / length) * sum) : Vec3f{0, 0, 1};
-  });
+inline Vec3d to_d(const Vec3f& v) {
+  return {v.x, v.y, v.z};
 }
 
 void check_options(const SmoothOptions& o) {
@@ -195,122 +78,216 @@ class Ticker {
   int total_, done_ = 0;
 };
 
-// Float triples: the filters' state and sums are small quantities (displacements, differences
+// Four floats: a vertex's x, y, z and a fourth lane (the triangle count c_i where a buffer keeps
+// it). GCC's and Clang's vector extension: one SSE instruction per operation on x86-64, plain
+// floats elsewhere. The filters' state and sums are small quantities (displacements, differences
 // of neighbouring positions), which float holds to ~1e-7 of their size.
-inline Vec3f add(Vec3f a, Vec3f b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline Vec3f sub(Vec3f a, Vec3f b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline Vec3f mul(float s, Vec3f a) { return {s * a.x, s * a.y, s * a.z}; }
-inline Vec3f fcross(Vec3f a, Vec3f b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+typedef float F4 __attribute__((vector_size(16)));
+
+inline F4 load3(const Vec3f& p) {
+  return F4{p.x, p.y, p.z, 0.0f};
+}
+inline F4 with_w(F4 a, float w) {
+  return F4{a[0], a[1], a[2], w};
+}
+inline Vec3d xyz_d(F4 a) {
+  return {a[0], a[1], a[2]};
+}
+// (a.y, a.z, a.x, a.w), for the cross product in three shuffles.
+inline F4 yzx(F4 a) {
+  return __builtin_shufflevector(a, a, 1, 2, 0, 3);
+}
+inline F4 cross3(F4 a, F4 b) {
+  return yzx(a * yzx(b) - yzx(a) * b);
+}
+// 1 / (2 c) for a vertex with c triangles: a sum over its triangles' other two corners counts
+// each neighbour twice on a closed mesh. 0 for a vertex without triangles.
+inline float half_inverse(float c) {
+  return c > 0 ? 0.5f / c : 0.0f;
 }
 
-// n float triples, allocated without initialisation (every pass writes what a later one reads;
-// Vec3f is an implicit-lifetime aggregate, so the storage holds its objects from the start).
-class Vec3fBuffer {
+// n F4, zero. From calloc, which takes large blocks as fresh pages from the kernel, already zero
+// (and clears smaller ones); their pages are made resident by every thread first (first_touch.hpp,
+// which leaves zero pages zero). glibc's malloc aligns to 16 bytes on 64-bit systems, as F4 needs.
+class F4Buffer {
  public:
-  explicit Vec3fBuffer(size_t n) : p_(static_cast<Vec3f*>(::operator new(n * sizeof(Vec3f)))) {
-    first_touch(p_.get(), n * sizeof(Vec3f));
+  explicit F4Buffer(size_t n)
+      : p_(static_cast<F4*>(std::calloc(std::max<size_t>(n, 1), sizeof(F4)))) {
+    if (!p_) throw std::bad_alloc();
+    if (reinterpret_cast<uintptr_t>(p_.get()) % alignof(F4) != 0)
+      throw std::logic_error("smoothing: calloc returned memory aligned below 16 bytes");
+    first_touch(p_.get(), n * sizeof(F4));
   }
-  Vec3f* data() const { return p_.get(); }
+  F4* data() const { return p_.get(); }
 
  private:
   struct Free {
-    void operator()(Vec3f* p) const { ::operator delete(p); }
+    void operator()(F4* p) const { std::free(p); }
   };
-  std::unique_ptr<Vec3f, Free> p_;
+  std::unique_ptr<F4, Free> p_;
 };
 
+// The triangles of a mesh as the sweeps visit them (triangle_scatter.hpp). Triangles with a
+// repeated corner add nothing to the umbrella sums (they have no area and their edges are the
+// other triangles').
+struct Triangles {
+  const uint32_t* idx;
+  TriangleChunks chunks;
+
+  template <class F>
+  void each(F&& f) const {
+    scatter_triangles(chunks, [&](size_t t0, size_t t1) {
+      for (size_t t = t0; t < t1; ++t) f(idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]);
+    });
+  }
+  template <class F>
+  void each_proper(F&& f) const {
+    each([&](uint32_t a, uint32_t b, uint32_t c) {
+      if (a != b && b != c && c != a) f(a, b, c);
+    });
+  }
+};
+
+// acc_i += (b - a) x (c - a) for each corner i of every triangle (a, b, c): twice the area
+// vector of the triangles at i, for positions pos(j) (F4).
+template <class Pos>
+void add_area_vectors(const Triangles& t, Pos&& pos, F4* acc) {
+  t.each([&](uint32_t a, uint32_t b, uint32_t c) {
+    const F4 pa = pos(a);
+    const F4 n = cross3(pos(b) - pa, pos(c) - pa);
+    acc[a] += n;
+    acc[b] += n;
+    acc[c] += n;
+  });
+}
+
+// The unit vector of acc_i's x, y, z, or `otherwise` where that is zero (or not finite).
+inline F4 unit_or(F4 v, F4 otherwise) {
+  const float length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  return length > 0 && std::isfinite(length) ? with_w(v * (1.0f / length), 0.0f) : otherwise;
+}
+
+// mesh.normals from the area vectors of mesh.positions (scratch: zero, nv entries).
+void write_normals(TriMesh& mesh, const Triangles& t, F4* scratch) {
+  const Vec3f* p = mesh.positions.data();
+  add_area_vectors(
+      t, [&](uint32_t i) { return load3(p[i]); }, scratch);
+  resize_zeroed(mesh.normals, mesh.positions.size());
+  for_each_vertex(mesh.positions.size(), [&](size_t i) {
+    const F4 n = unit_or(scratch[i], F4{0, 0, 1, 0});
+    mesh.normals[i] = {n[0], n[1], n[2]};
+  });
+}
+
 // The filters, on displacements D from the original positions o (the mesh's): the smoothed
-// position is o + D. Every update rule is rewritten for D with the umbrella vector of the original
-// positions, L0_i = avg_j (o_j - o_i), so the state stays small (a fraction of a voxel, at most a
-// few millimetres for the sinc's intermediate terms) and float keeps it to ~1e-7 of its size:
-// after 20 sinc sweeps the positions differ from a computation in double by less than the
-// rounding of the final float coordinates (bench/bench_smoothing.cpp's input: 1 ulp at most, in
-// under 1 % of the vertices). Every sweep writes every vertex (vertices without neighbours get
-// D = 0), reading the previous buffer only.
-template <class Index>
+// position is o + D, so the state stays small (a fraction of a voxel, at most a few millimetres
+// for the sinc's intermediate terms) and float keeps it to ~1e-7 of its size. Each sweep is one
+// pass over the triangles, adding every triangle's terms to its three corners (a scatter,
+// triangle_scatter.hpp), into an accumulator buffer, then one pass over the vertices. Over a
+// vertex's c triangles each neighbour is met twice on a closed mesh, so a sum S(x)_i of x_j over
+// the other two corners of i's triangles is 2 c_i avg_j x_j. Sums that a vertex pass needs next
+// to its own old value are made ready by the pass before (the accumulator is preset with the
+// rest of the update, scaled by 2 c_i), so every filter runs in two buffers (three for the sinc).
+// The count c_i rides in the fourth lane of a buffer that the sweep does not add into.
 class Smoother {
  public:
-  Smoother(const VertexRows<Index>& graph, const Vec3f* original, Ticker& ticker)
-      : g_(graph), o_(original), n_(graph.offsets.size() - 1), ticker_(ticker) {}
+  Smoother(const Triangles& triangles, const Vec3f* original, size_t n, Ticker& ticker)
+      : t_(triangles), o_(original), n_(n), ticker_(ticker) {}
 
-  // Laplacian steps p' = p + f L(p), one per factor: D' = D + f avg_j (o_j - o_i + D_j - D_i).
-  // Jacobi: d and scratch swap (the result ends in d). `per_tick` factors make one iteration.
-  void laplacian(const std::vector<double>& factors, size_t per_tick, Vec3f*& d, Vec3f*& scratch) {
+  // acc_i += S(q - q_i) = 2 c_i L(q)_i for q = o + D (q = o where d is null); with `count`, 1 per
+  // triangle in acc_i's fourth lane (d must then be null: the lanes of d would add in as well).
+  void add_umbrella(const F4* d, F4* acc, bool count) const {
+    const F4 one = count ? F4{0, 0, 0, 1} : F4{};
+    t_.each_proper([&](uint32_t a, uint32_t b, uint32_t c) {
+      const F4 oa = load3(o_[a]);
+      F4 ab = load3(o_[b]) - oa, ac = load3(o_[c]) - oa;
+      if (d) {
+        ab += d[b] - d[a];
+        ac += d[c] - d[a];
+      }
+      const F4 bc = ac - ab;
+      acc[a] += ab + ac + one;
+      acc[b] += bc - ab + one;
+      acc[c] += one - ac - bc;
+    });
+  }
+  // acc_i += S(x)_i = 2 c_i avg_j x_j.
+  void add_neighbours(const F4* x, F4* acc) const {
+    t_.each_proper([&](uint32_t a, uint32_t b, uint32_t c) {
+      const F4 xa = x[a], xb = x[b], xc = x[c];
+      acc[a] += xb + xc;
+      acc[b] += xa + xc;
+      acc[c] += xa + xb;
+    });
+  }
+
+  // Laplacian steps p' = p + f L(p), one per factor: D' = D + f L(o + D). `per_tick` factors
+  // make one iteration. d holds D and the counts, scratch is zero; afterwards the same.
+  void laplacian(const std::vector<double>& factors, size_t per_tick, F4*& d, F4*& scratch) {
     for (size_t s = 0; s < factors.size(); ++s) {
       if (s % per_tick == 0) ticker_.begin();
       const float f = static_cast<float>(factors[s]);
-      const Vec3f* in = d;
-      Vec3f* out = scratch;
       const bool first = s == 0;
+      add_umbrella(first ? nullptr : d, scratch, first);
       for_each_vertex(n_, [&](size_t i) {
-        const Index* j = g_.begin(i);
-        const Index* end = g_.end(i);
-        if (j == end) {
-          out[i] = Vec3f{};
-          return;
-        }
-        const Vec3f oi = o_[i];
-        Vec3f sum{};
-        if (first) {
-          for (; j != end; ++j) sum = add(sum, sub(o_[*j], oi));
-          out[i] = mul(f / float(end - g_.begin(i)), sum);
-        } else {
-          const Vec3f di = in[i];
-          for (; j != end; ++j) sum = add(sum, add(sub(o_[*j], oi), in[*j]));
-          out[i] = add(di, mul(f, sub(mul(1.0f / float(end - g_.begin(i)), sum), di)));
-        }
+        const float c = first ? scratch[i][3] : d[i][3];
+        const F4 old = first ? F4{} : d[i];
+        scratch[i] = with_w(old + (f * half_inverse(c)) * scratch[i], c);
+        d[i] = F4{};
       });
       std::swap(d, scratch);
       if (s % per_tick == per_tick - 1) ticker_.end();
     }
   }
 
-  // HC, simultaneous version (header). With q = o + D the previous positions and
-  // lap = avg q_j: b_i = lap_i - (alpha o_i + (1 - alpha) q_i) = L0_i + avg D_j - (1 - alpha) D_i,
-  // and p_i - o_i = lap_i - o_i - beta b_i - (1 - beta) avg b_j
-  //              = (1 - beta) (b_i - avg b_j) + (1 - alpha) D_i.
-  // Two sweeps per iteration, the second in place (vertex i reads its own D_i only). The first
-  // iteration's b is L0 itself, and the second sweep leaves b as it is, so the second iteration
-  // takes L0 from b (in place: vertex i reads its own b_i) and gathers only D_j, not o_j as well:
-  // a third less to read in that sweep. Later iterations recompute L0 from o.
-  void hc(int iterations, double alpha, double beta, Vec3f* d, Vec3f* b) {
+  // HC, simultaneous version (header). With q = o + D the previous positions:
+  //   b_i = avg q_j - (alpha o_i + (1 - alpha) q_i) = L0_i + avg D_j - keep D_i
+  //   D'_i = spread (b_i - avg b_j) + keep D_i
+  // (keep = 1 - alpha, spread = 1 - beta)
+  // with L0 = L(o). Two sweeps per iteration, in buffers x (b) and y (D). The first iteration's
+  // b is L0 itself; the second iteration starts from 2 c L0 in x (preset by the first) and adds
+  // S(D), so it reads D only, not o as well; later ones add S(q - q_i) = 2 c (L0 + avg D_j - D_i).
+  // The second sweep adds S(b) into y preset to -2 c (b_i + keep / spread D_i), so that
+  // D' = -spread y / (2 c). beta = 1 (spread 0) leaves D = 0: the identity.
+  // Afterwards y holds D and the counts, x is zero.
+  void hc(int iterations, double alpha, double beta, F4* x, F4* y) {
     const float keep = static_cast<float>(1 - alpha), spread = static_cast<float>(1 - beta);
     for (int it = 0; it < iterations; ++it) {
       ticker_.begin();
+      if (spread == 0) {  // D stays 0; y needs the counts
+        if (it == 0) {
+          add_umbrella(nullptr, x, true);
+          for_each_vertex(n_, [&](size_t i) {
+            y[i] = F4{0, 0, 0, x[i][3]};
+            x[i] = F4{};
+          });
+        }
+        ticker_.end();
+        continue;
+      }
       const bool first = it == 0, second = it == 1;
+      if (first) {
+        add_umbrella(nullptr, x, true);
+      } else if (second) {
+        add_neighbours(y, x);
+      } else {
+        add_umbrella(y, x, false);
+      }
+      const float ratio = keep / spread;
       for_each_vertex(n_, [&](size_t i) {
-        const Index* j = g_.begin(i);
-        const Index* end = g_.end(i);
-        if (j == end) {
-          b[i] = Vec3f{};
-          if (first) d[i] = Vec3f{};
-          return;
-        }
-        const float inv = 1.0f / float(end - j);
-        Vec3f sum{};
-        if (first) {
-          const Vec3f oi = o_[i];
-          for (; j != end; ++j) sum = add(sum, sub(o_[*j], oi));
-          b[i] = mul(inv, sum);
-        } else if (second) {
-          for (; j != end; ++j) sum = add(sum, d[*j]);
-          b[i] = sub(add(b[i], mul(inv, sum)), mul(keep, d[i]));
-        } else {
-          const Vec3f oi = o_[i];
-          for (; j != end; ++j) sum = add(sum, add(sub(o_[*j], oi), d[*j]));
-          b[i] = sub(mul(inv, sum), mul(keep, d[i]));
-        }
+        const float c = first ? x[i][3] : y[i][3];
+        const F4 di = first ? F4{} : y[i];
+        F4 b = half_inverse(c) * x[i];
+        if (!first) b += (second ? -keep : 1 - keep) * di;
+        x[i] = with_w(b, c);
+        y[i] = (-2 * c) * (b + ratio * di);
       });
+      add_neighbours(x, y);
+      const bool next_second = it == 0 && iterations > 1;
       for_each_vertex(n_, [&](size_t i) {
-        const Index* j = g_.begin(i);
-        const Index* end = g_.end(i);
-        if (j == end) return;
-        const float inv = 1.0f / float(end - j);
-        Vec3f sum{};
-        for (; j != end; ++j) sum = add(sum, b[*j]);
-        const Vec3f move = mul(spread, sub(b[i], mul(inv, sum)));
-        d[i] = first ? move : add(move, mul(keep, d[i]));
+        const float c = x[i][3];
+        y[i] = with_w((-spread * half_inverse(c)) * y[i], c);
+        x[i] = next_second ? with_w((2 * c) * x[i], 0.0f) : F4{};
       });
       ticker_.end();
     }
@@ -318,72 +295,65 @@ class Smoother {
 
   // Windowed sinc, f = sum_{n=0..N} c_n T_n(A) x with A = (I + avg) / 2 = I - K/2, evaluated by
   // Clenshaw's recurrence b_k = c_k x + 2 A b_{k+1} - b_{k+2} (b_{N+1} = b_{N+2} = 0),
-  // f = c_0 x + A b_1 - b_2: N sweeps, two buffers, no running sum. In displacements: with
-  // beta_k the same recurrence for A = 1 (beta_k = c_k + 2 beta_{k+1} - beta_{k+2}) and
-  // d_k = b_k - beta_k x,
+  // f = c_0 x + A b_1 - b_2: N sweeps, no running sum. In displacements: with beta_k the same
+  // recurrence for A = 1 (beta_k = c_k + 2 beta_{k+1} - beta_{k+2}) and d_k = b_k - beta_k x,
   //   d_k = (d_{k+1} + avg d_{k+1}) - d_{k+2} + beta_{k+1} L0     (d_N = 0, d_{N-1} = c_N L0)
   //   f = F x + (d_1 + avg d_1) / 2 - d_2 + (beta_1 / 2) L0,      F = sum c_n = f(0),
   // where x is the position relative to the bounding-box centre (F != 1 scales about it, as
-  // VTK's normalised coordinates do). Returns F; d receives f - F x, the displacement from o
-  // apart from the scaling. l0 is scratch for L0.
-  double sinc(const std::vector<double>& c, Vec3f*& d, Vec3f*& scratch, Vec3f* l0) {
+  // VTK's normalised coordinates do). Each sweep y <- s (x + avg x) - y + w L0 adds S(x) into y
+  // preset to 2 c x_i + (2 c / s) (w L0_i - y_i), then scales it by s / (2 c); the scaling of one
+  // sweep and the preset of the next share a vertex pass. Returns F; d receives f - F x, the
+  // displacement from o apart from the scaling, scratch is left zero, l0 holds L0 and the counts.
+  double sinc(const std::vector<double>& c, F4*& d, F4*& scratch, F4* l0) {
     const int n = static_cast<int>(c.size()) - 1;
     std::vector<double> beta(n + 3, 0.0);
     for (int k = n; k >= 1; --k) beta[k] = c[k] + 2 * beta[k + 1] - beta[k + 2];
     double gain = 0;
     for (double x : c) gain += x;
-    // cur = d_{k+1}, prev = d_{k+2}, starting at k = N - 2.
-    Vec3f* cur = d;
-    Vec3f* prev = scratch;
+    // The sweeps, last first: sweep k (k = n - 2 .. 1, then the final one) with weight w, scale s.
+    struct Sweep {
+      float w, s;
+    };
+    std::vector<Sweep> sweeps;
+    for (int k = n - 2; k >= 1; --k) sweeps.push_back({static_cast<float>(beta[k + 1]), 1.0f});
+    sweeps.push_back({static_cast<float>(0.5 * beta[1]), 0.5f});
+    auto preset = [&](size_t i, float cnt, F4 x, F4 y, const Sweep& sw) {
+      return (2 * cnt) * x + (2 * cnt / sw.s) * (sw.w * l0[i] - y);
+    };
+    // cur = d_{k+1}, prev = d_{k+2}, starting at k = N - 2: d_{N-1} = c_N L0, d_N = 0.
+    F4* cur = d;
+    F4* prev = scratch;
     const float c_n = n >= 2 ? static_cast<float>(c[n]) : 0.0f;
     ticker_.begin();
+    add_umbrella(nullptr, l0, true);
     for_each_vertex(n_, [&](size_t i) {
-      const Index* j = g_.begin(i);
-      const Index* end = g_.end(i);
-      prev[i] = Vec3f{};
-      if (j == end) {
-        l0[i] = cur[i] = Vec3f{};
-        return;
-      }
-      const Vec3f oi = o_[i];
-      const float inv = 1.0f / float(end - j);
-      Vec3f sum{};
-      for (; j != end; ++j) sum = add(sum, sub(o_[*j], oi));
-      l0[i] = mul(inv, sum);
-      cur[i] = mul(c_n, l0[i]);
+      const float cnt = l0[i][3];
+      const F4 l = half_inverse(cnt) * l0[i];
+      l0[i] = with_w(l, cnt);
+      cur[i] = c_n * l;
+      prev[i] = preset(i, cnt, cur[i], F4{}, sweeps[0]);
     });
     ticker_.end();
-    // x_i + avg_j x_j - y_i + w z_i, scaled by s, for vertex i.
-    auto sweep = [&](const Vec3f* x, Vec3f* y, float w, float s) {
+    for (size_t k = 0; k < sweeps.size(); ++k) {
+      const bool last = k + 1 == sweeps.size();
+      if (!last || n >= 2) ticker_.begin();
+      add_neighbours(cur, prev);
       for_each_vertex(n_, [&](size_t i) {
-        const Index* j = g_.begin(i);
-        const Index* end = g_.end(i);
-        if (j == end) {
-          y[i] = Vec3f{};
-          return;
-        }
-        const float inv = 1.0f / float(end - j);
-        Vec3f sum{};
-        for (; j != end; ++j) sum = add(sum, x[*j]);
-        y[i] = add(sub(mul(s, add(x[i], mul(inv, sum))), y[i]), mul(w, l0[i]));
+        const float cnt = l0[i][3];
+        const F4 y = (sweeps[k].s * half_inverse(cnt)) * prev[i];
+        prev[i] = y;
+        cur[i] = last ? F4{} : preset(i, cnt, y, cur[i], sweeps[k + 1]);
       });
-    };
-    for (int k = n - 2; k >= 1; --k) {
-      ticker_.begin();
-      sweep(cur, prev, static_cast<float>(beta[k + 1]), 1.0f);
       std::swap(cur, prev);
-      ticker_.end();
+      if (!last || n >= 2) ticker_.end();
     }
-    if (n >= 2) ticker_.begin();
-    sweep(cur, prev, static_cast<float>(0.5 * beta[1]), 0.5f);
-    if (n >= 2) ticker_.end();
-    d = prev;  // the result
-    scratch = cur;
+    d = cur;  // the result
+    scratch = prev;
     return gain;
   }
 
  private:
-  const VertexRows<Index>& g_;
+  const Triangles& t_;
   const Vec3f* o_;
   size_t n_;
   Ticker& ticker_;
@@ -410,24 +380,23 @@ struct Restoration {
 // is the first-order one, (V0 - V) / (dV/ddelta)). A part that smoothing nearly erased (below a
 // quarter of its volume: specks of a few voxels) keeps its original positions instead; a mesh
 // that encloses no positive volume is left as smoothed.
-template <class Index, class Original, class Smoothed>
-Restoration restore_volume(const Adjacency<Index>& adj, const std::vector<uint32_t>& idx,
-                           Original&& original, Smoothed&& smoothed, size_t nv, Vec3f* normal) {
+// `smoothed` holds the smoothed positions relative to the centre (x, y, z); `normal` is zero.
+template <class Original>
+Restoration restore_volume(const Triangles& t, const std::vector<uint32_t>& idx,
+                           Original&& original, const F4* smoothed, size_t nv, F4* normal) {
   const size_t nt = idx.size() / 3;
   // One pass for the normals, one over the triangles for both volumes and the cubic (the
   // normals are wasted only in the rare cases that return early).
-  for_each_vertex(nv, [&](size_t i) {
-    const Vec3d n = adj.area_normal(idx, i, smoothed);
-    const double length = norm(n);
-    normal[i] = length > 0 && std::isfinite(length) ? to_float((1.0 / length) * n) : Vec3f{};
-  });
+  add_area_vectors(
+      t, [&](uint32_t i) { return smoothed[i]; }, normal);
+  for_each_vertex(nv, [&](size_t i) { normal[i] = unit_or(normal[i], F4{}); });
   const VolumeCubic k = block_sum<VolumeCubic>(nt, [&](size_t t0, size_t t1) {
     VolumeCubic s;
     for (size_t t = t0; t < t1; ++t) {
       const uint32_t* x = &idx[3 * t];
       s.original += dot(original(x[0]), cross(original(x[1]), original(x[2])));
-      const Vec3d a = smoothed(x[0]), b = smoothed(x[1]), c = smoothed(x[2]);
-      const Vec3d na = to_d(normal[x[0]]), nb = to_d(normal[x[1]]), nc = to_d(normal[x[2]]);
+      const Vec3d a = xyz_d(smoothed[x[0]]), b = xyz_d(smoothed[x[1]]), c = xyz_d(smoothed[x[2]]);
+      const Vec3d na = xyz_d(normal[x[0]]), nb = xyz_d(normal[x[1]]), nc = xyz_d(normal[x[2]]);
       const Vec3d bc = cross(b, c), nbc = cross(nb, c), bnc = cross(b, nc), nbnc = cross(nb, nc);
       s.k0 += dot(a, bc);
       s.k1 += dot(na, bc) + dot(a, nbc) + dot(a, bnc);
@@ -494,32 +463,29 @@ Vec3d box_centre(const std::vector<Vec3f>& p) {
   return 0.5 * (to_d(box.lo) + to_d(box.hi));
 }
 
-template <class Index>
 void smooth_with(TriMesh& mesh, const SmoothOptions& options, int iterations, Progress& progress) {
   const size_t nv = mesh.positions.size();
   const std::vector<uint32_t>& idx = mesh.indices;
-  const Adjacency<Index> adj = build_adjacency<Index>(idx, nv, true);
-  const VertexRows<Index>& graph = adj.graph();
+  const Triangles triangles{idx.data(), triangle_chunks(idx)};
   const Vec3f* o = mesh.positions.data();
-  // The centre of the volume sums and of the sinc filter's scaling.
-  const Vec3d centre = box_centre(mesh.positions);
+  // The centre of the volume sums and of the sinc filter's scaling (not needed otherwise).
+  const bool centred = options.method == SmoothMethod::sinc || options.preserve_volume;
+  const Vec3d centre = centred ? box_centre(mesh.positions) : Vec3d{};
 
   Ticker ticker(progress, iterations);
-  Smoother<Index> smoother(graph, o, ticker);
-  // Two float triples per vertex (three for the sinc). The mesh's normals are recomputed at the
-  // end, so their storage serves as one of them, made here when the mesh has none (the
-  // pipeline's meshes, extracted without normals when smoothing follows): less memory, and one
-  // buffer fewer whose pages are touched for the first time (0.65-0.85 ms per MB on the 2-core
-  // virtual machines: docs/PERFORMANCE.md).
-  std::optional<Vec3fBuffer> own_d, own_l0;
-  own_d.emplace(nv);
-  Vec3f* d = own_d->data();
-  resize_zeroed(mesh.normals, nv);
-  Vec3f* scratch = mesh.normals.data();
+  Smoother smoother(triangles, o, nv, ticker);
+  // Two buffers of four floats per vertex (three for the sinc), zero: every filter leaves its
+  // displacements in d and scratch zero again.
+  F4Buffer own_d(nv), own_scratch(nv);
+  std::optional<F4Buffer> own_l0;
+  F4* d = own_d.data();
+  F4* scratch = own_scratch.data();
+  const F4* counts = d;  // the buffer whose fourth lane holds each vertex's triangle count
   double gain = 1;
   switch (options.method) {
     case SmoothMethod::laplacian:
       smoother.laplacian(std::vector<double>(iterations, options.lambda), 1, d, scratch);
+      counts = d;
       break;
     case SmoothMethod::taubin: {
       std::vector<double> factors;
@@ -528,44 +494,57 @@ void smooth_with(TriMesh& mesh, const SmoothOptions& options, int iterations, Pr
         factors.push_back(options.taubin_mu);
       }
       smoother.laplacian(factors, 2, d, scratch);
+      counts = d;
       break;
     }
     case SmoothMethod::hc:
-      smoother.hc(iterations, options.alpha, options.beta, d, scratch);
+      smoother.hc(iterations, options.alpha, options.beta, scratch, d);
+      counts = d;
       break;
     case SmoothMethod::sinc:
       own_l0.emplace(nv);
       gain = smoother.sinc(
           windowed_sinc_coefficients(iterations, options.pass_band, options.sinc_unit_gain), d,
           scratch, own_l0->data());
-      own_l0.reset();
+      counts = own_l0->data();
       break;
     case SmoothMethod::none:
       break;
   }
-  // Position i relative to the centre: before (original) and after smoothing. The smoothed ones
-  // replace the displacements in d, rounded to float once, because the volume restoration reads
-  // each many times. The rounding is at most half a float step of the box's half-diagonal
-  // (4e-6 mm for a 200 mm box): no more than the final rounding of the world positions for a
-  // mesh away from the world origin, and a few nanometres in any case.
-  for_each_vertex(nv, [&](size_t i) {
-    d[i] = to_float(gain * (to_d(o[i]) - centre) + to_d(d[i]));
-  });
-  const auto original = [&](size_t i) { return to_d(o[i]) - centre; };
-  const auto smoothed = [&](size_t i) { return to_d(d[i]); };
-  Restoration r;
-  if (options.preserve_volume) r = restore_volume(adj, idx, original, smoothed, nv, scratch);
-  if (!r.keep_original) {
-    const bool moved = r.delta != 0;
+  // Vertices in no triangle with three distinct corners keep their positions.
+  auto has_triangles = [&](size_t i) { return counts[i][3] > 0; };
+  if (!options.preserve_volume) {
     for_each_vertex(nv, [&](size_t i) {
-      if (graph.size(i) == 0) return;
-      Vec3d p = centre + to_d(d[i]);
-      if (moved) p = p + r.delta * to_d(scratch[i]);
-      mesh.positions[i] = to_float(p);
+      if (has_triangles(i))
+        mesh.positions[i] = to_float(centre + gain * (to_d(o[i]) - centre) + xyz_d(d[i]));
     });
+  } else {
+    // Position i relative to the centre: before (original) and after smoothing. The smoothed
+    // ones replace the displacements in d (x, y, z), rounded to float once, because the volume
+    // restoration reads each many times; the count goes to the fourth lane. The rounding is at
+    // most half a float step of the box's half-diagonal (4e-6 mm for a 200 mm box): no more than
+    // the final rounding of the world positions for a mesh away from the world origin, and a few
+    // nanometres in any case.
+    for_each_vertex(nv, [&](size_t i) {
+      const Vec3d p = gain * (to_d(o[i]) - centre) + xyz_d(d[i]);
+      d[i] = F4{static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z),
+                counts[i][3]};
+    });
+    own_l0.reset();
+    const auto original = [&](size_t i) { return to_d(o[i]) - centre; };
+    const Restoration r = restore_volume(triangles, idx, original, d, nv, scratch);
+    if (!r.keep_original) {
+      const bool moved = r.delta != 0;
+      for_each_vertex(nv, [&](size_t i) {
+        if (!(d[i][3] > 0)) return;
+        Vec3d p = centre + xyz_d(d[i]);
+        if (moved) p = p + r.delta * xyz_d(scratch[i]);
+        mesh.positions[i] = to_float(p);
+      });
+    }
+    for_each_vertex(nv, [&](size_t i) { scratch[i] = F4{}; });
   }
-  own_d.reset();
-  write_normals(mesh, adj);
+  write_normals(mesh, triangles, scratch);
 }
 
 }  // namespace
@@ -650,11 +629,9 @@ std::vector<double> windowed_sinc_coefficients(int iterations, double pass_band,
 }
 
 void compute_vertex_normals(TriMesh& mesh) {
-  if (mesh_rows_fit_32(mesh.indices.size())) {
-    write_normals(mesh, build_adjacency<uint32_t>(mesh.indices, mesh.positions.size(), false));
-  } else {
-    write_normals(mesh, build_adjacency<uint64_t>(mesh.indices, mesh.positions.size(), false));
-  }
+  const Triangles triangles{mesh.indices.data(), triangle_chunks(mesh.indices)};
+  F4Buffer scratch(mesh.positions.size());
+  write_normals(mesh, triangles, scratch.data());
 }
 
 void smooth_mesh(TriMesh& mesh, const SmoothOptions& options, Progress& progress) {
@@ -666,11 +643,7 @@ void smooth_mesh(TriMesh& mesh, const SmoothOptions& options, Progress& progress
   }
   const int iterations =
       options.iterations > 0 ? options.iterations : default_smooth_iterations(options.method);
-  if (mesh_rows_fit_32(mesh.indices.size())) {
-    smooth_with<uint32_t>(mesh, options, iterations, progress);
-  } else {
-    smooth_with<uint64_t>(mesh, options, iterations, progress);
-  }
+  smooth_with(mesh, options, iterations, progress);
 }
 
 }  // namespace segmesh

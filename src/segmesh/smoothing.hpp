@@ -1,9 +1,13 @@
 // Mesh smoothing: moves vertices to take the voxel staircase out of extracted surfaces, keeping
 // the connectivity. Four filters, all built on the umbrella operator
-//   L(p)_i = avg_{j in N(i)} p_j - p_i     (N(i): the vertices sharing an edge with i, each once)
+//   L(p)_i = avg_{j in N(i)} p_j - p_i     (N(i): the vertices sharing an edge with i)
 // so every vertex is treated as interior (our meshes are closed; like 3D Slicer's setting with
-// boundary and feature-edge smoothing off). Every sweep is a Jacobi step: all vertices read the
-// previous positions and write a second buffer (the "simultaneous" version of the references).
+// boundary and feature-edge smoothing off). The average runs over the triangles at i, each adding
+// its other two corners, so on a closed edge-manifold mesh (every mesh segmesh extracts) every
+// neighbour counts twice and the average is the plain one; elsewhere a neighbour weighs as many
+// triangles as share its edge with i (one across a boundary edge, three at a fin of three
+// triangles). Every sweep is a Jacobi step: all vertices read the previous positions and write a
+// second buffer (the "simultaneous" version of the references).
 //
 // - laplacian: p' = p + lambda L(p), `iterations` times. lambda = 1 moves every vertex to the
 //   average of its neighbours (eq. 31-32 of the reference thesis; Field 1988, "Laplacian smoothing
@@ -52,25 +56,25 @@
 // iterations of Laplacian -0.27 %, HC -0.001 %, Taubin (20) +0.07 %, sinc (Slicer's) +0.43 %).
 //
 // Guarantees: positions change, nothing else: vertex count, indices (so closedness and
-// manifoldness of the connectivity) and colours stay. Vertices with no neighbour (used by no
-// triangle, or only by triangles whose corners are all the same vertex) stay exactly where they
-// are. Non-manifold meshes are fine (a vertex averages all its edge neighbours). Afterwards the
-// normals are recomputed (as compute_vertex_normals does). The filters run on the displacements
-// from the original positions, in float (small quantities, kept to ~1e-7 of their size), and the
-// result is added to the original positions relative to the bounding box's centre in double, so
-// meshes ~500 mm from the world origin lose no precision; it is rounded to float once at the end.
-// Parallel (oneTBB): the vertex adjacency is built once per call as compressed rows (for closed
-// oriented manifold meshes each vertex's neighbours in fan order, mesh_adjacency.hpp; otherwise
-// unique neighbours, sorted), each sweep is a parallel loop over vertices into a second buffer with
-// no locks, and every vertex's new position is the same sequence of operations whatever the
-// partition, so the output is identical for any thread count.
+// manifoldness of the connectivity) and colours stay. Vertices in no triangle with three distinct
+// corners stay exactly where they are, and triangles with a repeated corner (no area) add nothing
+// to the averages. Non-manifold meshes are fine. Afterwards the normals are recomputed (as
+// compute_vertex_normals does). The filters run on the displacements from the original positions,
+// in float (small quantities, kept to ~1e-7 of their size), and the result is added to the
+// original positions in double (relative to the bounding box's centre where the sinc scales or
+// the volume is restored), so meshes ~500 mm from the world origin lose no precision; it is
+// rounded to float once at the end.
+// Parallel (oneTBB) without an adjacency: each sweep is one pass over the triangles, each adding
+// its terms to its three corners (triangle_scatter.hpp: chunks of triangles that touch disjoint
+// vertex ids run side by side, in an order fixed by the mesh), then one pass over the vertices,
+// so the output is identical for any thread count.
 //
-// Cost: O(iterations x edges) time (HC: two sweeps per iteration, Taubin two, sinc one, Laplacian
-// one) plus O(triangles) for the adjacency; memory: the adjacency (closed manifold meshes: 4 bytes
-// per vertex plus 12 per triangle; others also rows of unique neighbours) and two float triples
-// per vertex (three for sinc), one of them the mesh's own normal array.
-// Measured on 330 k vertices, two busy cores: adjacency and normals ~25 ms, Laplacian (2) 33 ms,
-// HC (2) 54 ms, Taubin (20) 71 ms, sinc (20) 67 ms.
+// Cost: O(iterations x triangles) time (HC: two sweeps per iteration, Taubin two, sinc one,
+// Laplacian one) plus one read of the indices for the chunks; memory: 16 bytes per vertex per
+// buffer, two buffers (three for the sinc), plus the normals the mesh gets.
+// Measured on make_big.py's largest part (2.6 M vertices, 5.2 M triangles), Intel host of
+// docs/PERFORMANCE.md, 1 / 2 threads: HC (2) 267 / 141 ms, Laplacian (2) 186 / 105, sinc (20)
+// 870 / 455, Taubin (20) 1900 / 1050, vertex normals 65 / 35.
 #pragma once
 
 #include <optional>
@@ -128,10 +132,11 @@ int default_smooth_iterations(SmoothMethod method);
 void smooth_mesh(TriMesh& mesh, const SmoothOptions& options, Progress& progress = null_progress());
 
 // Sets mesh.normals to one unit normal per vertex: the sum of the cross products (b - a) x (c - a)
-// of the triangles using it (each face normal weighted by twice its area), normalised. A vertex
-// with no triangle of non-zero area gets (0, 0, 1), so every normal is unit (glTF requires it).
-// Outwards for a closed mesh wound counter-clockwise seen from outside. Parallel, identical for
-// any thread count. Cost: O(triangles), 8 bytes per vertex plus 12 per triangle of scratch.
+// of the triangles using it (each face normal weighted by twice its area; summed in float),
+// normalised. A vertex with no triangle of non-zero area gets (0, 0, 1), so every normal is unit
+// (glTF requires it). Outwards for a closed mesh wound counter-clockwise seen from outside.
+// Parallel (triangle_scatter.hpp), identical for any thread count. Cost: O(triangles), 16 bytes
+// per vertex of scratch.
 void compute_vertex_normals(TriMesh& mesh);
 
 // The Chebyshev coefficients c_0 .. c_N of the windowed sinc filter for N = iterations >= 1 and

@@ -20,17 +20,9 @@
 namespace segmesh {
 namespace {
 
-using test::padded;
-
 // Marching Cubes of a random 0/1 field: closed, manifold, about 10^5 triangles, enough for the
 // parallel chunked path (at least 2^16 triangles).
-TriMesh random_blobs() {
-  std::mt19937 rng(11);
-  std::bernoulli_distribution coin(0.5);
-  std::vector<uint8_t> inside(48 * 40 * 40);
-  for (auto& v : inside) v = coin(rng);
-  return marching_cubes(padded({48, 40, 40}, inside), {});
-}
+TriMesh random_blobs() { return marching_cubes(test::random_coins({48, 40, 40}, 11), {}); }
 
 // Triangles as rotations starting at their smallest index, so (a, b, c) == (b, c, a).
 std::set<std::array<uint32_t, 3>> triangle_set(const std::vector<uint32_t>& idx) {

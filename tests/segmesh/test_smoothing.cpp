@@ -4,6 +4,7 @@
 // to the volume and the shape of a voxelised sphere, and the guarantees: connectivity untouched,
 // unit outward normals, identical output for any thread count, odd input handled.
 #include "segmesh/smoothing.hpp"
+#include "segmesh/triangle_scatter.hpp"
 
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
@@ -288,6 +289,8 @@ TEST_F(SmoothSphere, SameResultForOneAndFourThreads) {
   // A larger ball (27 k vertices, a dozen blocks of work) and about 20 sweeps per method, so
   // that a race (say, a sweep reading positions another thread is updating) would show.
   const TriMesh big = voxelised_ball({.radius = 12});
+  // Enough triangles for chunks of the scatter that run side by side (triangle_scatter.hpp).
+  ASSERT_GE(triangle_chunks(big.indices).count(), 3u);
   for (SmoothMethod method : kMethods) {
     const SmoothOptions o{
         .method = method,

@@ -49,6 +49,16 @@ inline Volume<uint8_t> padded(const std::array<int64_t, 3>& dims, const std::vec
   return v;
 }
 
+// A padded field whose inside voxels are drawn by fair coin flips (seeded): Marching Cubes makes
+// a closed manifold mesh of many small pieces from it, numbered plane by plane.
+inline Volume<uint8_t> random_coins(const std::array<int64_t, 3>& dims, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::bernoulli_distribution coin(0.5);
+  std::vector<uint8_t> inside(static_cast<size_t>(dims[0] * dims[1] * dims[2]));
+  for (auto& v : inside) v = coin(rng);
+  return padded(dims, inside);
+}
+
 // A signed field sampled on an anisotropic grid: value = shape(world point), inside positive.
 template <class F>
 Volume<float> sample(const Grid& grid, F&& shape) {
