@@ -137,7 +137,8 @@ struct Triangles {
   template <class F>
   void each(F&& f) const {
     scatter_triangles(chunks, [&](size_t t0, size_t t1) {
-      for (size_t t = t0; t < t1; ++t) f(idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]);
+      for_each_interleaved(t0, t1,
+                           [&](size_t t) { f(idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]); });
     });
   }
   template <class F>

@@ -66,15 +66,15 @@
 // rounded to float once at the end.
 // Parallel (oneTBB) without an adjacency: each sweep is one pass over the triangles, each adding
 // its terms to its three corners (triangle_scatter.hpp: chunks of triangles that touch disjoint
-// vertex ids run side by side, in an order fixed by the mesh), then one pass over the vertices,
-// so the output is identical for any thread count.
+// vertex ids run side by side, each walked as four interleaved streams, in an order fixed by the
+// mesh), then one pass over the vertices, so the output is identical for any thread count.
 //
 // Cost: O(iterations x triangles) time (HC: two sweeps per iteration, Taubin two, sinc one,
 // Laplacian one) plus one read of the indices for the chunks; memory: 16 bytes per vertex per
 // buffer, two buffers (three for the sinc), plus the normals the mesh gets.
 // Measured on make_big.py's largest part (2.6 M vertices, 5.2 M triangles), Intel host of
-// docs/PERFORMANCE.md, 1 / 2 threads: HC (2) 267 / 141 ms, Laplacian (2) 186 / 105, sinc (20)
-// 870 / 455, Taubin (20) 1900 / 1050, vertex normals 65 / 35.
+// docs/PERFORMANCE.md, 1 / 2 threads: HC (2) 193-207 / 100-103 ms, Laplacian (2) 145 / 75-79,
+// sinc (20) 646-655 / 320-324, Taubin (20) 1440-1510 / 717-721, vertex normals 50 / 27.
 #pragma once
 
 #include <optional>

@@ -55,4 +55,26 @@ void scatter_triangles(const TriangleChunks& chunks, Body&& body) {
   }
 }
 
+// f(t) for every triangle t in [first, last), in an order fixed by the range: blocks of 64 K
+// triangles, each walked as four interleaved quarters (t, t + q, t + 2 q, t + 3 q, t + 1, ...).
+// Consecutive triangles of a mesh share vertices, so adding their terms one after the other makes
+// each vertex's additions wait on the previous one's store; triangles a quarter block apart
+// rarely share one, so the four streams overlap (a sweep over big_seg's 5.2 M triangles 20.7 ms
+// in order, 15.3 ms this way, docs/PERFORMANCE.md).
+template <class F>
+void for_each_interleaved(size_t first, size_t last, F&& f) {
+  constexpr size_t kBlock = size_t{1} << 16;
+  for (size_t s = first; s < last; s += kBlock) {
+    const size_t e = s + kBlock < last ? s + kBlock : last;
+    const size_t q = (e - s) / 4;
+    for (size_t k = s; k < s + q; ++k) {
+      f(k);
+      f(k + q);
+      f(k + 2 * q);
+      f(k + 3 * q);
+    }
+    for (size_t k = s + 4 * q; k < e; ++k) f(k);
+  }
+}
+
 }  // namespace segmesh

@@ -18,7 +18,9 @@ namespace segmesh {
 namespace {
 
 // Marching Cubes of a random 0/1 field: about 10^5 triangles, numbered plane by plane.
-TriMesh random_blobs() { return marching_cubes(test::random_coins({48, 40, 40}, 5), {}); }
+TriMesh random_blobs() {
+  return marching_cubes(test::random_coins({48, 40, 40}, 5), {});
+}
 
 void expect_valid(const TriangleChunks& chunks, const std::vector<uint32_t>& idx) {
   ASSERT_GE(chunks.count(), 1u);
@@ -97,6 +99,25 @@ TEST(TriangleScatter, SumsAreCompleteAndTheSameBitsAtAnyThreadCount) {
     const auto [count, sum] = scatter(threads);
     EXPECT_EQ(count, expected) << threads;
     EXPECT_EQ(0, std::memcmp(sum.data(), sum1.data(), nv * sizeof(float))) << threads;
+  }
+}
+
+TEST(TriangleScatter, InterleavedWalkVisitsEveryTriangleOnceInStreamsAQuarterBlockApart) {
+  constexpr size_t kBlock = size_t{1} << 16;
+  for (const auto& [first, last] : std::vector<std::pair<size_t, size_t>>{
+           {0, 0}, {3, 4}, {10, 17}, {5, 5 + kBlock}, {7, 7 + 2 * kBlock + 13}}) {
+    std::vector<int> seen(last + 1, 0);
+    std::vector<size_t> order;
+    for_each_interleaved(first, last, [&](size_t t) {
+      ++seen[t];
+      order.push_back(t);
+    });
+    for (size_t t = 0; t <= last; ++t)
+      ASSERT_EQ(seen[t], t >= first && t < last ? 1 : 0) << first << " " << last << " " << t;
+    if (last - first >= kBlock) {  // a full block: four streams a quarter block apart
+      EXPECT_EQ(order[1], first + kBlock / 4);
+      EXPECT_EQ(order[4], first + 1);
+    }
   }
 }
 
