@@ -50,8 +50,8 @@ inline int first_touch_threads() {
 // Each task asks the kernel to fault its page range in at once (Linux's MADV_POPULATE_WRITE, 5.14
 // and later), which costs about two thirds of faulting the same pages one write at a time
 // (64 MB: 31 against 45 ms on the Intel host of docs/PERFORMANCE.md); where the kernel refuses,
-// it writes one byte per page. For raw storage that holds no object yet: the bytes' values are
-// unspecified afterwards.
+// it writes one byte per page. For raw storage that holds no object yet; it writes nothing but
+// zeros, so zeroed storage (calloc's) stays zero.
 inline void first_touch(void* data, size_t bytes) {
   if (bytes < kParallelFirstTouchBytes) return;
   constexpr uintptr_t kPage = 4096;
