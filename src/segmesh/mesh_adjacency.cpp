@@ -43,37 +43,22 @@ std::vector<Chunk> make_chunks(const std::vector<uint32_t>& idx, size_t nv) {
     count = std::clamp<size_t>(4 * threads, 1, kMaxChunks);
     count = std::min(count, std::max<size_t>(1, nt / kMinChunkTriangles));
   }
-  std::vector<Chunk> chunks(count);
-  for (size_t c = 0; c < count; ++c) {
-    chunks[c].first = nt * c / count;
-    chunks[c].last = nt * (c + 1) / count;
-  }
-  tbb::parallel_for(size_t{0}, count, [&](size_t c) {
-    std::tie(chunks[c].lo, chunks[c].hi) = vertex_range(idx, chunks[c].first, chunks[c].last);
-  });
+  ChunkRanges ranges = chunk_ranges(idx, count);
   // Scattered vertex ids: merge neighbouring chunks until the counters fit in about 2 per vertex.
   auto total = [&] {
     size_t sum = 0;
-    for (const Chunk& c : chunks) sum += c.range();
+    for (const auto& [lo, hi] : ranges.ids) sum += size_t{hi} - lo + 1;
     return sum;
   };
-  while (chunks.size() > 1 && total() > 2 * nv + 4096) {
-    std::vector<Chunk> merged((chunks.size() + 1) / 2);
-    for (size_t c = 0; c < merged.size(); ++c) {
-      merged[c] = chunks[2 * c];
-      if (2 * c + 1 < chunks.size()) {
-        const Chunk& b = chunks[2 * c + 1];
-        merged[c].last = b.last;
-        merged[c].lo = std::min(merged[c].lo, b.lo);
-        merged[c].hi = std::max(merged[c].hi, b.hi);
-      }
-    }
-    chunks = std::move(merged);
-  }
+  while (ranges.count() > 1 && total() > 2 * nv + 4096) merge_neighbour_chunks(ranges);
+  std::vector<Chunk> chunks(ranges.count());
   size_t base = 0;
-  for (Chunk& c : chunks) {
-    c.base = base;
-    base += c.range();
+  for (size_t c = 0; c < chunks.size(); ++c) {
+    chunks[c].first = ranges.first[c];
+    chunks[c].last = ranges.first[c + 1];
+    std::tie(chunks[c].lo, chunks[c].hi) = ranges.ids[c];
+    chunks[c].base = base;
+    base += chunks[c].range();
   }
   return chunks;
 }

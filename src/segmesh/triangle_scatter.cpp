@@ -23,40 +23,53 @@ std::pair<uint32_t, uint32_t> vertex_range(const std::vector<uint32_t>& idx, siz
   return {static_cast<uint32_t>(lo) ^ kFlip, static_cast<uint32_t>(hi) ^ kFlip};
 }
 
+ChunkRanges chunk_ranges(const std::vector<uint32_t>& idx, size_t count) {
+  const size_t nt = idx.size() / 3;
+  ChunkRanges chunks;
+  chunks.first.resize(count + 1);
+  for (size_t c = 0; c <= count; ++c) chunks.first[c] = nt * c / count;
+  chunks.ids.resize(count);
+  tbb::parallel_for(size_t{0}, count, [&](size_t c) {
+    chunks.ids[c] = vertex_range(idx, chunks.first[c], chunks.first[c + 1]);
+  });
+  return chunks;
+}
+
+void merge_neighbour_chunks(ChunkRanges& chunks) {
+  std::vector<size_t> first{0};
+  std::vector<std::pair<uint32_t, uint32_t>> ids;
+  for (size_t c = 0; c < chunks.count(); c += 2) {
+    const size_t d = std::min(c + 1, chunks.count() - 1);
+    ids.push_back({std::min(chunks.ids[c].first, chunks.ids[d].first),
+                   std::max(chunks.ids[c].second, chunks.ids[d].second)});
+    first.push_back(chunks.first[d + 1]);
+  }
+  chunks.first = std::move(first);
+  chunks.ids = std::move(ids);
+}
+
 TriangleChunks triangle_chunks(const std::vector<uint32_t>& idx, size_t min_triangles) {
   const size_t nt = idx.size() / 3;
   TriangleChunks chunks;
-  size_t count = std::min(kMaxChunks, nt / std::max<size_t>(1, min_triangles));
+  const size_t count = std::min(kMaxChunks, nt / std::max<size_t>(1, min_triangles));
   if (count < 3) {  // two chunks would run one after the other anyway
     chunks.first.push_back(nt);
     return chunks;
   }
-  std::vector<size_t> first(count + 1);
-  for (size_t c = 0; c <= count; ++c) first[c] = nt * c / count;
-  std::vector<std::pair<uint32_t, uint32_t>> range(count);
-  tbb::parallel_for(size_t{0}, count,
-                    [&](size_t c) { range[c] = vertex_range(idx, first[c], first[c + 1]); });
+  ChunkRanges ranges = chunk_ranges(idx, count);
   // Chunks c and c + 2 disjoint for every c makes every two of one parity disjoint (the ranges
   // then increase along each parity). Otherwise neighbouring chunks merge, halving the count.
   auto disjoint = [&] {
-    for (size_t c = 0; c + 2 < range.size(); ++c)
-      if (range[c].second >= range[c + 2].first) return false;
+    for (size_t c = 0; c + 2 < ranges.count(); ++c)
+      if (ranges.ids[c].second >= ranges.ids[c + 2].first) return false;
     return true;
   };
-  while (range.size() >= 3 && !disjoint()) {
-    std::vector<size_t> f{0};
-    std::vector<std::pair<uint32_t, uint32_t>> r;
-    for (size_t c = 0; c < range.size(); c += 2) {
-      const size_t d = std::min(c + 1, range.size() - 1);
-      r.push_back(
-          {std::min(range[c].first, range[d].first), std::max(range[c].second, range[d].second)});
-      f.push_back(first[d + 1]);
-    }
-    first = std::move(f);
-    range = std::move(r);
+  while (ranges.count() >= 3 && !disjoint()) merge_neighbour_chunks(ranges);
+  if (ranges.count() >= 3) {
+    chunks.first = std::move(ranges.first);
+  } else {
+    chunks.first.push_back(nt);
   }
-  if (range.size() < 3) first = {0, nt};
-  chunks.first = std::move(first);
   return chunks;
 }
 

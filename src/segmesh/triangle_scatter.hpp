@@ -10,7 +10,7 @@
 // Dual Contouring number both plane by plane) touch narrow id ranges per chunk and keep many
 // chunks; a mesh with scattered ids is merged down to one chunk, visited by one thread.
 //
-// Cost: one read of the index array to find the chunks' vertex ranges (vertex_range, also used by
+// Cost: one read of the index array to find the chunks' vertex ranges (chunk_ranges, also used by
 // mesh_adjacency.cpp), then nothing per pass but the tasks.
 #pragma once
 
@@ -26,6 +26,21 @@ namespace segmesh {
 // The smallest and largest vertex id of triangles [first, last) (first < last).
 std::pair<uint32_t, uint32_t> vertex_range(const std::vector<uint32_t>& indices, size_t first,
                                            size_t last);
+
+// Triangles cut into chunks of consecutive triangles, with the vertex ids each touches: the
+// mechanism under triangle_chunks (below) and mesh_adjacency.cpp's transpose, which differ only in
+// when they merge neighbouring chunks.
+struct ChunkRanges {
+  std::vector<size_t> first;                       // chunk c: triangles [first[c], first[c + 1])
+  std::vector<std::pair<uint32_t, uint32_t>> ids;  // chunk c's smallest and largest vertex id
+  size_t count() const { return ids.size(); }
+};
+
+// `count` chunks of equal size (1 <= count <= the triangle count), their ids found in parallel.
+ChunkRanges chunk_ranges(const std::vector<uint32_t>& indices, size_t count);
+
+// Chunks 2c and 2c + 1 become chunk c (a last odd chunk stays as it is): half as many.
+void merge_neighbour_chunks(ChunkRanges& chunks);
 
 // Chunk c holds triangles [first[c], first[c + 1]); chunks c and c + 2k touch disjoint vertex ids.
 struct TriangleChunks {
