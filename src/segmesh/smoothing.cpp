@@ -481,12 +481,10 @@ void smooth_with(TriMesh& mesh, const SmoothOptions& options, int iterations, Pr
   std::optional<F4Buffer> own_l0;
   F4* d = own_d.data();
   F4* scratch = own_scratch.data();
-  const F4* counts = d;  // the buffer whose fourth lane holds each vertex's triangle count
   double gain = 1;
   switch (options.method) {
     case SmoothMethod::laplacian:
       smoother.laplacian(std::vector<double>(iterations, options.lambda), 1, d, scratch);
-      counts = d;
       break;
     case SmoothMethod::taubin: {
       std::vector<double> factors;
@@ -495,23 +493,22 @@ void smooth_with(TriMesh& mesh, const SmoothOptions& options, int iterations, Pr
         factors.push_back(options.taubin_mu);
       }
       smoother.laplacian(factors, 2, d, scratch);
-      counts = d;
       break;
     }
     case SmoothMethod::hc:
       smoother.hc(iterations, options.alpha, options.beta, scratch, d);
-      counts = d;
       break;
     case SmoothMethod::sinc:
       own_l0.emplace(nv);
       gain = smoother.sinc(
           windowed_sinc_coefficients(iterations, options.pass_band, options.sinc_unit_gain), d,
           scratch, own_l0->data());
-      counts = own_l0->data();
       break;
     case SmoothMethod::none:
       break;
   }
+  // The triangle counts ride in the fourth lane of the sinc's L0, of the displacements otherwise.
+  const F4* counts = own_l0 ? own_l0->data() : d;
   // Vertices in no triangle with three distinct corners keep their positions.
   auto has_triangles = [&](size_t i) { return counts[i][3] > 0; };
   if (!options.preserve_volume) {
@@ -534,16 +531,16 @@ void smooth_with(TriMesh& mesh, const SmoothOptions& options, int iterations, Pr
     own_l0.reset();
     const auto original = [&](size_t i) { return to_d(o[i]) - centre; };
     const Restoration r = restore_volume(triangles, idx, original, d, nv, scratch);
-    if (!r.keep_original) {
-      const bool moved = r.delta != 0;
-      for_each_vertex(nv, [&](size_t i) {
-        if (!(d[i][3] > 0)) return;
+    // The positions, and scratch (the normals) zero again for write_normals.
+    const bool moved = r.delta != 0;
+    for_each_vertex(nv, [&](size_t i) {
+      if (!r.keep_original && d[i][3] > 0) {
         Vec3d p = centre + xyz_d(d[i]);
         if (moved) p = p + r.delta * xyz_d(scratch[i]);
         mesh.positions[i] = to_float(p);
-      });
-    }
-    for_each_vertex(nv, [&](size_t i) { scratch[i] = F4{}; });
+      }
+      scratch[i] = F4{};
+    });
   }
   write_normals(mesh, triangles, scratch);
 }
