@@ -210,6 +210,7 @@ struct CellHermite {
 struct CellVertices {
   std::array<Vec3d, kDcMaxPieces> offset;
   std::array<Vec3f, kDcMaxPieces> normal;
+  std::array<Vec3d, kDcMaxPieces> normal_sum;  // the crossings' unit normals added, cell frame
 };
 
 // The sheet vertices of a cell with at most two sheets, as NeighbourhoodCache keeps them (plain
@@ -220,112 +221,137 @@ struct SheetVertices {
   float normal[kPieces][3];
 };
 
-// Sheet vertices of binary cells by their 4 x 4 x 4 neighbourhood (the values every gradient of
-// the cell's corners reads: all 64 for Sobel, 32 for central differences). The QEF of a cell of a
-// 0/1 field is a function of its neighbourhood alone, and a surface has few distinct
-// neighbourhoods (8 600 among the 2.6 million cells of make_big.py's large bone with central
-// differences, 22 800 with Sobel), so each is solved once. A fixed-size open-addressing table
-// shared by the tasks: a slot is claimed by compare-and-swap of its key and published once its
-// value is written; a task that finds a slot still being written, or no free slot in reach, solves
-// the cell itself (and another task may store the same key again: the values are equal). The value
-// is what the solve gives, whoever computes it, so the output does not depend on the threads. Each
-// task keeps a small direct-mapped copy in front of it (NeighbourhoodFront), because neighbouring
-// cells repeat neighbourhoods (a wall along x) and the shared table is too large for the caches;
-// one per thread. Cells with more than two sheets (rare) are always solved.
-class NeighbourhoodCache {
+// A table from neighbourhood keys (Extractor::neighbourhood) to values, for one thread: open
+// addressing on the key (linear probing, at most half full, grown by rehashing the keys), the
+// values in the order they were made. Keys are never 0 (no non-trivial cell has an empty
+// neighbourhood).
+template <class Value>
+class KeyTable {
  public:
-  explicit NeighbourhoodCache(size_t cells) {
-    // Sized by the cells, of which few have a neighbourhood of their own (3 000 of 115 000 on the
-    // phantom's tibia, 7 400 of 78 000 on the pelvis, 8 600 of 2.6 M on make_big.py's bone): a
-    // quarter of the cells leaves it mostly empty on real surfaces, and a fuller one only costs
-    // solves. (Twice the cells made 11 MB for each of the phantom's larger parts: its Dual
-    // Contouring became 20 % faster at two threads and the command's peak 10 MB lower.)
-    size_t capacity = 1024;
-    while (capacity < cells / 4 && capacity < (size_t{1} << 17)) capacity *= 2;
-    // Up to 11 MB of fresh memory: its slots are made (keys zero, values left) from every
-    // thread, so the page faults of the first touch run side by side (first_touch.hpp).
-    slots_.reset(static_cast<Slot*>(::operator new(capacity * sizeof(Slot))));
-    Slot* slots = slots_.get();
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, capacity, 4096),
-                      [&](const tbb::blocked_range<size_t>& r) {
-                        for (size_t i = r.begin(); i != r.end(); ++i) ::new (slots + i) Slot;
-                      });
-    mask_ = capacity - 1;
+  // The entry for `key`, made by make(Value&) when missing.
+  template <class Make>
+  const Value& get(uint64_t key, Make&& make) {
+    size_t h = hash(key) & mask_;
+    for (; keys_[h] != 0; h = (h + 1) & mask_) {
+      if (keys_[h] == key) return values_[index_[h]];
+    }
+    Value v;
+    make(v);
+    keys_[h] = key;
+    index_[h] = static_cast<uint32_t>(values_.size());
+    values_.push_back(v);
+    if (2 * values_.size() > keys_.size()) grow();
+    return values_.back();
   }
 
+ private:
   static size_t hash(uint64_t k) {
     k ^= k >> 33;
     k *= 0xff51afd7ed558ccdULL;
     k ^= k >> 33;
     return static_cast<size_t>(k);
   }
-
-  bool find(uint64_t key, SheetVertices& out) const {
-    size_t h = hash(key) & mask_;
-    for (int probe = 0; probe < kProbes; ++probe, h = (h + 1) & mask_) {
-      const Slot& slot = slots_.get()[h];
-      const uint64_t k = slot.key.load(std::memory_order_acquire);
-      if (k == 0) return false;
-      if (k == key && slot.ready.load(std::memory_order_acquire) != 0) {
-        out = slot.value;
-        return true;
-      }
+  void grow() {
+    std::vector<uint64_t> keys(2 * keys_.size(), 0);
+    std::vector<uint32_t> index(keys.size());
+    const size_t mask = keys.size() - 1;
+    for (size_t i = 0; i < keys_.size(); ++i) {
+      if (keys_[i] == 0) continue;
+      size_t h = hash(keys_[i]) & mask;
+      while (keys[h] != 0) h = (h + 1) & mask;
+      keys[h] = keys_[i];
+      index[h] = index_[i];
     }
-    return false;
+    keys_.swap(keys);
+    index_.swap(index);
+    mask_ = mask;
   }
 
-  void insert(uint64_t key, const SheetVertices& v) {
-    size_t h = hash(key) & mask_;
-    for (int probe = 0; probe < kProbes; ++probe, h = (h + 1) & mask_) {
-      Slot& slot = slots_.get()[h];
-      uint64_t k = slot.key.load(std::memory_order_acquire);
-      if (k == key) return;  // stored, or being stored, by another task
-      if (k == 0 && slot.key.compare_exchange_strong(k, key, std::memory_order_acq_rel)) {
-        slot.value = v;
-        slot.ready.store(1, std::memory_order_release);
-        return;
-      }
-    }
-  }
-
- private:
-  static constexpr int kProbes = 32;
-  struct Slot {
-    std::atomic<uint64_t> key{0};  // 0: empty (no non-trivial cell has an empty neighbourhood)
-    std::atomic<uint32_t> ready{0};
-    SheetVertices value;
-  };
-  static_assert(std::is_trivially_destructible_v<Slot>);
-  struct FreeSlots {
-    void operator()(Slot* p) const { ::operator delete(p); }
-  };
-  std::unique_ptr<Slot, FreeSlots> slots_;
-  size_t mask_ = 0;
+  static constexpr size_t kInitialSlots = 4096;
+  std::vector<uint64_t> keys_ = std::vector<uint64_t>(kInitialSlots, 0);  // 0: empty slot
+  std::vector<uint32_t> index_ = std::vector<uint32_t>(kInitialSlots);    // into values_
+  std::vector<Value> values_;
+  size_t mask_ = kInitialSlots - 1;
 };
 
-// A thread's direct-mapped copy of recently used cache entries.
-class NeighbourhoodFront {
- public:
-  NeighbourhoodFront() : keys_(kSize, 0), values_(kSize) {}
-  // The entry for `key`: from the front, the shared cache, or solve(out) (then stored in both).
-  template <class Solve>
-  const SheetVertices& get(uint64_t key, NeighbourhoodCache& shared, Solve&& solve) {
-    const size_t i = NeighbourhoodCache::hash(key) & (kSize - 1);
-    if (keys_[i] != key) {
-      if (!shared.find(key, values_[i])) {
-        solve(values_[i]);
-        shared.insert(key, values_[i]);
-      }
-      keys_[i] = key;
-    }
-    return values_[i];
+// The neighbourhood key (Extractor::neighbourhood: bit n + 16 x for point (x, y, z),
+// n = y + 4 z) of the 4 x 4 x 4 points mirrored about the cell's centre along the axes set in
+// `axes` (bit a for axis a): coordinate c becomes 3 - c.
+inline uint64_t mirror_key(uint64_t k, int axes) {
+  if (axes & 1) {  // x: the four 16-bit columns in reverse order
+    k = (k >> 32) | (k << 32);
+    k = ((k >> 16) & 0x0000ffff0000ffffULL) | ((k & 0x0000ffff0000ffffULL) << 16);
   }
+  if (axes & 2) {  // y: the four bits of every nibble in reverse order
+    k = ((k >> 1) & 0x5555555555555555ULL) | ((k & 0x5555555555555555ULL) << 1);
+    k = ((k >> 2) & 0x3333333333333333ULL) | ((k & 0x3333333333333333ULL) << 2);
+  }
+  if (axes & 4) {  // z: the four nibbles of every column in reverse order
+    k = ((k >> 4) & 0x0f0f0f0f0f0f0f0fULL) | ((k & 0x0f0f0f0f0f0f0f0fULL) << 4);
+    k = ((k >> 8) & 0x00ff00ff00ff00ffULL) | ((k & 0x00ff00ff00ff00ffULL) << 8);
+  }
+  return k;
+}
 
- private:
-  static constexpr size_t kSize = 4096;
-  std::vector<uint64_t> keys_;
-  std::vector<SheetVertices> values_;
+// The smallest of a key's eight mirror images, and the mirror that gives it (the lowest such).
+struct CanonicalKey {
+  uint64_t key;
+  int axes;
 };
+inline CanonicalKey canonical_key(uint64_t k) {
+  CanonicalKey best{k, 0};
+  for (int axes = 1; axes < 8; ++axes) {
+    const uint64_t m = mirror_key(k, axes);
+    if (m < best.key) best = {m, axes};
+  }
+  return best;
+}
+
+// A single sheet solved in its canonical neighbourhood's frame: index-space offset from the cell's
+// first corner, and the sum of its crossings' unit normals before the grid's rotation.
+struct CanonicalSheet {
+  double offset[3];
+  double normal_sum[3];
+};
+
+// One thread's solved neighbourhoods. The QEF of a cell of a 0/1 field is a function of its
+// neighbourhood alone, and a surface has few distinct neighbourhoods (8 800 among the 2.6 million
+// cells of make_big.py's bones with central differences, 6 200 among the phantom's 450 000,
+// 9 800 among the pelvis's 108 000), fewer still up to mirror images (2 100, 1 400 and 3 900):
+// the QEF, its solution and the cell's box all mirror with the cell (spacing and margins do not
+// change), so a single-sheet cell is solved once per mirror class, in the frame of the class's
+// smallest key, and mirrored back. `by_key` holds every key met (its vertices in its own frame,
+// world normals); `by_class` the solved classes. Cells with two sheets are solved under their own
+// key (which sheet is which would need mirroring too; they are rare). Kept by DcNeighbourhoods
+// across the parts of a scene; only its own thread uses it, so nothing is locked, and a
+// neighbourhood met by two threads is solved by both, with the same result: the output does not
+// depend on the threads. (A table shared by the threads, filled by compare-and-swap, with a small
+// direct-mapped copy per thread in front of it, was built anew for every part: on the phantom it
+// cost more in page faults and cache misses than the solves it shared saved.)
+struct SolvedNeighbourhoods {
+  KeyTable<SheetVertices> by_key;
+  KeyTable<CanonicalSheet> by_class;
+};
+
+}  // namespace
+
+struct DcNeighbourhoods::Tables {
+  // What the entries are solved for: the cell's shape and rotation and the options that shape a
+  // QEF vertex.
+  std::array<double, 3> spacing;
+  Mat3d direction;
+  int connectivity;
+  NormalMethod normals;
+  double svd_eps;
+  tbb::enumerable_thread_specific<SolvedNeighbourhoods> threads;  // made on first use per thread
+
+  bool fits(const Grid& g, const DcOptions& o) const {
+    return g.spacing == spacing && g.direction == direction && o.connectivity == connectivity &&
+           o.normals == normals && o.svd_eps == svd_eps;
+  }
+};
+
+namespace {
 
 // A cell around a cut edge as polygon() needs it: its first sheet vertex and its case, or
 // kOneSheet for a cell known to hold a single sheet (whose vertex is then its first).
@@ -421,7 +447,7 @@ template <class T>
 class Extractor {
  public:
   Extractor(const Volume<T>* field, const InsideBits& bits, const Grid& grid, bool binary,
-            const DcOptions& options, Progress& progress)
+            const DcOptions& options, Progress& progress, DcNeighbourhoods* solved = nullptr)
       : f_(field),
         bits_(bits),
         grid_(grid),
@@ -430,6 +456,7 @@ class Extractor {
         o_(options),
         table_(dc_table(options.connectivity)),
         progress_(progress),
+        solved_(solved),
         nx_(bits.dims[0]),
         ny_(bits.dims[1]),
         nz_(bits.dims[2]),
@@ -524,6 +551,7 @@ class Extractor {
       for (int64_t w = 0; w < cw_; ++w) {
         const CornerWords c = corners(j, k, w);
         CellWord cw{c.nontrivial() & valid(w), 0};
+        if (cw.cells == 0) continue;  // most words (words_ starts zeroed): no rare test
         sheets += uint64_t(std::popcount(cw.cells));
         for (uint64_t m = cw.cells & c.maybe_rare(); m != 0; m &= m - 1) {
           const int b = std::countr_zero(m);
@@ -695,6 +723,13 @@ class Extractor {
     return keep_in_box(x, m, {lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]});
   }
 
+  // The world unit normal of a sheet whose crossings' unit normals add up to normal_sum.
+  Vec3f world_normal(Vec3d normal_sum) const {
+    const Vec3d wn = grid_.direction * normal_sum;
+    const double wl = norm(wn);
+    return wl > 0 ? to_float((1.0 / wl) * wn) : Vec3f{0, 0, 1};
+  }
+
   // The Hermite data of the cut edges of cell (i, j, k) of field f with case cs.
   template <class F>
   CellHermite cell_hermite(const Volume<F>& f, int64_t i, int64_t j, int64_t k, int cs) const {
@@ -748,9 +783,8 @@ class Extractor {
       const Vec3d target = dc.piece_count > 1 ? qef.mass_point() : solve_qef(qef, o_.svd_eps).position;
       const Vec3d p = keep_in_cell(target, qef.mass_point(), lo, hi, dc.piece_count > 1);
       out.offset[piece] = {p.x / s[0], p.y / s[1], p.z / s[2]};
-      const Vec3d wn = grid_.direction * normal_sum;
-      const double wl = norm(wn);
-      out.normal[piece] = wl > 0 ? to_float((1.0 / wl) * wn) : Vec3f{0, 0, 1};
+      out.normal[piece] = world_normal(normal_sum);
+      out.normal_sum[piece] = normal_sum;
       if (qefs) qefs[piece] = qef;
     }
     return out;
@@ -758,17 +792,53 @@ class Extractor {
 
   // The sheets of a binary cell from its neighbourhood key (below): the cell is solved in a
   // 4 x 4 x 4 field holding the key, which gives exactly what the whole field gives, as every
-  // gradient of the cell's corners reads only those points.
-  CellVertices solve_key(uint64_t key, int cs, Qef* qefs) const {
-    Volume<uint8_t> local;
-    local.grid = grid_;
-    local.grid.dims = {4, 4, 4};
-    local.voxels.resize(64);
+  // gradient of the cell's corners reads only those points. `local` is that field's storage,
+  // reused from solve to solve (empty the first time).
+  CellVertices solve_key(uint64_t key, int cs, Qef* qefs, Volume<uint8_t>& local) const {
+    if (local.voxels.size() != 64) {
+      local.grid = grid_;
+      local.grid.dims = {4, 4, 4};
+      local.voxels.resize(64);
+    }
     for (int x = 0; x < 4; ++x) {
       for (int n = 0; n < 16; ++n)
         local.voxels[static_cast<size_t>(x + 4 * n)] = uint8_t(key >> (n + 16 * x) & 1);
     }
     return solve_cell(local, 1, 1, 1, cs, qefs);
+  }
+
+  // The Marching Cubes case of the cell at the centre of a neighbourhood key.
+  static int case_of_key(uint64_t key) {
+    int cs = 0;
+    for (int n = 0; n < 8; ++n) {
+      const int x = 1 + (n & 1), y = 1 + (n >> 1 & 1), z = 1 + (n >> 2);
+      cs |= int(key >> (y + 4 * z + 16 * x) & 1) << n;
+    }
+    return cs;
+  }
+
+  // The single sheet of the cell with neighbourhood `key`, solved in the frame of its mirror
+  // class (SolvedNeighbourhoods) and mirrored back into `out`; false (nothing written) when the
+  // class's cell does not hold exactly one sheet.
+  bool solve_mirrored(uint64_t key, SolvedNeighbourhoods& table, Volume<uint8_t>& local,
+                      SheetVertices& out) const {
+    const CanonicalKey c = canonical_key(key);
+    const int cs = case_of_key(c.key);
+    if (pieces(cs) != 1) return false;
+    const CanonicalSheet& sheet = table.by_class.get(c.key, [&](CanonicalSheet& made) {
+      const CellVertices v = solve_key(c.key, cs, nullptr, local);
+      made = {{v.offset[0].x, v.offset[0].y, v.offset[0].z},
+              {v.normal_sum[0].x, v.normal_sum[0].y, v.normal_sum[0].z}};
+    });
+    double normal_sum[3];
+    for (int a = 0; a < 3; ++a) {
+      const bool mirrored = (c.axes >> a & 1) != 0;
+      out.offset[0][a] = mirrored ? 1 - sheet.offset[a] : sheet.offset[a];
+      normal_sum[a] = mirrored ? -sheet.normal_sum[a] : sheet.normal_sum[a];
+    }
+    const Vec3f n = world_normal({normal_sum[0], normal_sum[1], normal_sum[2]});
+    out.normal[0][0] = n.x, out.normal[0][1] = n.y, out.normal[0][2] = n.z;
+    return true;
   }
 
   // The columns of the 16 rows around one row of cells (rows (j - 1 + y, k - 1 + z) at
@@ -820,12 +890,18 @@ class Extractor {
   // Pass 3: the sheet vertices.
   void emit_vertices(TriMesh& mesh) {
     std::atomic<int64_t> rows_done{0};
-    std::optional<NeighbourhoodCache> cache;
-    if (binary_) cache.emplace(static_cast<size_t>(vertex_first_.back()));
-    tbb::enumerable_thread_specific<NeighbourhoodFront> fronts;  // made on first use per thread
+    // The scene's solved neighbourhoods, or this part's own.
+    std::optional<DcNeighbourhoods> own;
+    DcNeighbourhoods* solved = nullptr;
+    if (binary_) {
+      solved = solved_ ? solved_ : &own.emplace(grid_, o_);
+      if (!solved->tables->fits(grid_, o_))
+        throw std::logic_error("dual contouring: neighbourhoods solved for another grid or options");
+    }
     tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 16), [&](const auto& range) {
       throw_if_cancelled(progress_);
-      NeighbourhoodFront* front = cache ? &fronts.local() : nullptr;
+      SolvedNeighbourhoods* table = solved ? &solved->tables->threads.local() : nullptr;
+      Volume<uint8_t> local;  // solve_key's
       for (int64_t r = range.begin(); r < range.end(); ++r) {
         const int64_t j = r % cy_, k = r / cy_;
         const bool rows_inside = j >= 1 && k >= 1 && j + 2 < ny_ && k + 2 < nz_;
@@ -863,10 +939,11 @@ class Extractor {
               if (f_ == nullptr)
                 throw std::logic_error("dual contouring: a part's cell at its border");
               emit_all(solve_cell(*f_, x, j, k, cs(), qefs));
-            } else if (cache && n <= SheetVertices::kPieces) {
+            } else if (table && n <= SheetVertices::kPieces) {
               const uint64_t key = neighbourhood(columns, x);
-              const SheetVertices& v = front->get(key, *cache, [&](SheetVertices& out) {
-                const CellVertices full = solve_key(key, cs(), nullptr);
+              const SheetVertices& v = table->by_key.get(key, [&](SheetVertices& out) {
+                if (n == 1 && solve_mirrored(key, *table, local, out)) return;
+                const CellVertices full = solve_key(key, cs(), nullptr, local);
                 for (int p = 0; p < n; ++p) {
                   out.offset[p][0] = full.offset[p].x, out.offset[p][1] = full.offset[p].y;
                   out.offset[p][2] = full.offset[p].z;
@@ -878,7 +955,7 @@ class Extractor {
             } else if (f_ != nullptr) {
               emit_all(solve_cell(*f_, x, j, k, cs(), qefs));
             } else {
-              emit_all(solve_key(neighbourhood(columns, x), cs(), qefs));
+              emit_all(solve_key(neighbourhood(columns, x), cs(), qefs, local));
             }
             id += static_cast<uint32_t>(n);
           }
@@ -1051,6 +1128,7 @@ class Extractor {
   const DcOptions& o_;
   const DcTable& table_;
   Progress& progress_;
+  DcNeighbourhoods* const solved_;  // the scene's solved neighbourhoods, or nullptr
   const int64_t nx_, ny_, nz_, cx_, cy_, cz_, cw_;
   const uint64_t key_mask_;
   const bool mirrored_;  // a mirrored grid reverses every winding
@@ -1078,6 +1156,12 @@ bool is_binary(const Volume<T>& field, double iso) {
 
 }  // namespace
 
+DcNeighbourhoods::DcNeighbourhoods(const Grid& grid, const DcOptions& options)
+    : tables(new Tables{grid.spacing, grid.direction, options.connectivity, options.normals,
+                        options.svd_eps, {}}) {}
+
+DcNeighbourhoods::~DcNeighbourhoods() = default;
+
 template <class T>
 TriMesh dual_contouring(const Volume<T>& field, const DcOptions& options, Progress& progress) {
   const auto& d = field.grid.dims;
@@ -1088,12 +1172,12 @@ TriMesh dual_contouring(const Volume<T>& field, const DcOptions& options, Progre
 }
 
 TriMesh dual_contouring(const Grid& grid, const Components& components, const Component& component,
-                        const DcOptions& options, Progress& progress) {
+                        const DcOptions& options, Progress& progress, DcNeighbourhoods* solved) {
   DcOptions o = options;
   o.iso = 0.5;
   const InsideBits bits = inside_bits(components, component);
   const Grid part_grid = component_grid(grid, component);
-  return Extractor<uint8_t>(nullptr, bits, part_grid, true, o, progress).run();
+  return Extractor<uint8_t>(nullptr, bits, part_grid, true, o, progress, solved).run();
 }
 
 template TriMesh dual_contouring(const Volume<uint8_t>&, const DcOptions&, Progress&);

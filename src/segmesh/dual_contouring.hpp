@@ -19,7 +19,8 @@
 // rare ones, count the polygons, solve the sheets, emit the polygons), prefix sums between them,
 // disjoint output ranges, identical for any thread count. A cell's vertex id is a popcount in its
 // row, so no list of cells is stored. On a 0/1 field each distinct 4 x 4 x 4 neighbourhood's QEF
-// is solved once (a lock-free cache shared by the threads). Adaptive simplification
+// is solved once per thread (for a single sheet, once per mirror class; DcNeighbourhoods below
+// shares them between the parts of a scene). Adaptive simplification
 // (`tolerance_mm` > 0) clusters the cells of an octree built over the grid bottom-up: a node's
 // children collapse into one vertex where the merged QEF error stays within the tolerance and Ju
 // et al.'s topology tests hold (one sheet, no sign change hidden at edge, face or cell midpoints),
@@ -34,6 +35,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 
 #include "segmesh/components.hpp"
 #include "segmesh/gradient.hpp"
@@ -60,12 +62,27 @@ template <class T>
 TriMesh dual_contouring(const Volume<T>& field, const DcOptions& options,
                         Progress& progress = null_progress());
 
+// The QEF vertices of binary cells already solved, by neighbourhood, for the parts of one label
+// map to share: extract_parts (pipeline.hpp) passes one to every part, so a neighbourhood that
+// recurs in several parts (identical screws, bones of one scan) is solved once per thread for the
+// whole scene. Made for one grid spacing and direction and one connectivity, normal operator and
+// svd_eps; dual_contouring throws std::logic_error when given it with others. Thread-safe.
+class DcNeighbourhoods {
+ public:
+  DcNeighbourhoods(const Grid& grid, const DcOptions& options);
+  ~DcNeighbourhoods();
+  struct Tables;  // one table per thread (dual_contouring.cpp)
+  const std::unique_ptr<Tables> tables;
+};
+
 // Dual Contouring of one connected component of a label map (its 0/1 mask, options.iso
 // ignored): the inside bits come straight from the component's runs and the Hermite data from the
 // bits around each cell, so no mask is built; the mesh is the one
-// dual_contouring(component_mask(...)) gives.
+// dual_contouring(component_mask(...)) gives. `solved`: the scene's solved neighbourhoods (above),
+// or nullptr for the part's own.
 TriMesh dual_contouring(const Grid& grid, const Components& components, const Component& component,
-                        const DcOptions& options, Progress& progress = null_progress());
+                        const DcOptions& options, Progress& progress = null_progress(),
+                        DcNeighbourhoods* solved = nullptr);
 
 extern template TriMesh dual_contouring(const Volume<uint8_t>&, const DcOptions&, Progress&);
 extern template TriMesh dual_contouring(const Volume<int32_t>&, const DcOptions&, Progress&);

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <variant>
@@ -269,6 +270,9 @@ Scene extract_parts(const Image& image, const PipelineParts& parts, const Meshin
   // Outside the volume a grey-value field continues with its lowest value (or just below iso).
   const float background =
       grey ? static_cast<float>(std::min(parts.range.min, *o.iso - 1.0)) : 0.0f;
+  // Dual Contouring's solved neighbourhoods, shared by the parts (dual_contouring.hpp).
+  std::optional<DcNeighbourhoods> solved;
+  if (o.method == Method::dual_contouring) solved.emplace(image.grid(), dc_options(o, 0.5));
   tbb::parallel_for(size_t{0}, parts.kept.size(), [&](size_t p) {
     throw_if_cancelled(progress);
     const Component& c = components.components[parts.kept[p]];
@@ -280,7 +284,8 @@ Scene extract_parts(const Image& image, const PipelineParts& parts, const Meshin
                                   .normals = o.normals,
                                   .vertex_normals = o.smooth.method == SmoothMethod::none});
     } else if (!grey && o.presmooth_sigma_mm == 0) {
-      part.mesh = dual_contouring(image.grid(), components, c, dc_options(o, 0.5));
+      part.mesh = dual_contouring(image.grid(), components, c, dc_options(o, 0.5),
+                                  null_progress(), &*solved);
     } else if (!grey) {
       part.mesh = extract_part(image.grid(), o, 0.5, 0.0f, [&](FieldMargin m) {
         return component_mask(image.grid(), components, c, m);

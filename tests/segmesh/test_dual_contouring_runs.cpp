@@ -3,7 +3,11 @@
 // operators, on random label maps whose parts touch the volume border, and on rows across word
 // boundaries; the same without normals; identical for any thread count.
 #include <gtest/gtest.h>
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+
+#include <stdexcept>
+#include <vector>
 
 #include "segmesh/component_field.hpp"
 #include "segmesh/components.hpp"
@@ -89,6 +93,36 @@ TEST(DualContouringRuns, IdenticalForAnyThreadCount) {
   tbb::task_arena(4).execute([&] { many = dual_contouring(labels.grid, c, c.components[0], {}); });
   ASSERT_GT(one.triangle_count(), 10000u);
   EXPECT_TRUE(identical(one, many));
+}
+
+// The parts of one label map sharing their solved neighbourhoods (what extract_parts does), in
+// parallel at four threads: every part gets the mesh it gets with its own, bit for bit. Tables
+// made for another spacing or other options are refused.
+TEST(DualContouringRuns, SharedNeighbourhoodsGiveEachPartItsOwnMesh) {
+  LabelVolume labels = random_labels({40, 30, 26}, 0.5, 21);
+  labels.grid.spacing = {0.8, 0.8, 1.25};
+  const Components c = find_components(labels, {});
+  ASSERT_GT(c.components.size(), 5u);
+  const DcOptions o{.vertex_normals = true};
+  DcNeighbourhoods solved(labels.grid, o);
+  std::vector<TriMesh> shared(c.components.size());
+  tbb::task_arena(4).execute([&] {
+    tbb::parallel_for(size_t{0}, c.components.size(), [&](size_t p) {
+      shared[p] = dual_contouring(labels.grid, c, c.components[p], o, null_progress(), &solved);
+    });
+  });
+  for (size_t p = 0; p < c.components.size(); ++p) {
+    EXPECT_TRUE(identical(shared[p], dual_contouring(labels.grid, c, c.components[p], o)))
+        << "component " << p;
+  }
+  Grid other = labels.grid;
+  other.spacing[2] = 1.5;
+  DcNeighbourhoods elsewhere(other, o);
+  EXPECT_THROW(dual_contouring(labels.grid, c, c.components[0], o, null_progress(), &elsewhere),
+               std::logic_error);
+  DcNeighbourhoods sobel(labels.grid, {.normals = NormalMethod::sobel});
+  EXPECT_THROW(dual_contouring(labels.grid, c, c.components[0], o, null_progress(), &sobel),
+               std::logic_error);
 }
 
 }  // namespace
