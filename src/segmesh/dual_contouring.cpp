@@ -213,11 +213,13 @@ struct CellVertices {
   std::array<Vec3d, kDcMaxPieces> normal_sum;  // the crossings' unit normals added, cell frame
 };
 
-// The sheet vertices of a cell with at most two sheets, as NeighbourhoodCache keeps them (plain
-// arrays: nothing to initialise for the cells that only read them).
+// The sheet vertices of a cell with at most two sheets, as SolvedNeighbourhoods keeps them (plain
+// arrays: nothing to initialise for the cells that only read them). The offsets are float: a
+// 6e-8 voxel rounding, far below the float positions' own, and two thirds of the bytes every
+// cell's lookup reads (pelvis 12.1 to 11.3 ms at one thread).
 struct SheetVertices {
   static constexpr int kPieces = 2;
-  double offset[kPieces][3];
+  float offset[kPieces][3];
   float normal[kPieces][3];
 };
 
@@ -267,7 +269,7 @@ class KeyTable {
     mask_ = mask;
   }
 
-  static constexpr size_t kInitialSlots = 4096;
+  static constexpr size_t kInitialSlots = 16384;
   std::vector<uint64_t> keys_ = std::vector<uint64_t>(kInitialSlots, 0);  // 0: empty slot
   std::vector<uint32_t> index_ = std::vector<uint32_t>(kInitialSlots);    // into values_
   std::vector<Value> values_;
@@ -833,7 +835,7 @@ class Extractor {
     double normal_sum[3];
     for (int a = 0; a < 3; ++a) {
       const bool mirrored = (c.axes >> a & 1) != 0;
-      out.offset[0][a] = mirrored ? 1 - sheet.offset[a] : sheet.offset[a];
+      out.offset[0][a] = static_cast<float>(mirrored ? 1 - sheet.offset[a] : sheet.offset[a]);
       normal_sum[a] = mirrored ? -sheet.normal_sum[a] : sheet.normal_sum[a];
     }
     const Vec3f n = world_normal({normal_sum[0], normal_sum[1], normal_sum[2]});
@@ -921,7 +923,7 @@ class Extractor {
             // A cell that is not rare holds one sheet; its case is only needed to solve it.
             const auto cs = [&] { return c.case_of(b); };
             const int n = (row[w].rare >> b & 1) ? pieces(cs()) : 1;
-            auto emit = [&](int piece, const double* d, const float* normal) {
+            auto emit = [&](int piece, const auto* d, const float* normal) {
               mesh.positions[id + piece] =
                   to_float(grid_.to_world({double(x) + d[0], double(j) + d[1], double(k) + d[2]}));
               if (normals_) mesh.normals[id + piece] = {normal[0], normal[1], normal[2]};
@@ -945,8 +947,9 @@ class Extractor {
                 if (n == 1 && solve_mirrored(key, *table, local, out)) return;
                 const CellVertices full = solve_key(key, cs(), nullptr, local);
                 for (int p = 0; p < n; ++p) {
-                  out.offset[p][0] = full.offset[p].x, out.offset[p][1] = full.offset[p].y;
-                  out.offset[p][2] = full.offset[p].z;
+                  out.offset[p][0] = static_cast<float>(full.offset[p].x);
+                  out.offset[p][1] = static_cast<float>(full.offset[p].y);
+                  out.offset[p][2] = static_cast<float>(full.offset[p].z);
                   out.normal[p][0] = full.normal[p].x, out.normal[p][1] = full.normal[p].y;
                   out.normal[p][2] = full.normal[p].z;
                 }
