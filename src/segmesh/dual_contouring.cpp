@@ -735,26 +735,75 @@ class Extractor {
   // The Hermite data of the cut edges of cell (i, j, k) of field f with case cs.
   template <class F>
   CellHermite cell_hermite(const Volume<F>& f, int64_t i, int64_t j, int64_t k, int cs) const {
-    const auto& s = grid_.spacing;
     CellHermite h;
     for (int e = 0; e < 12; ++e) {
       const int c0 = kMcEdgeCorner[e][0];
       if ((cs >> c0 & 1) == (cs >> kMcEdgeCorner[e][1] & 1)) continue;
-      const int axis = e / 4;
       const int64_t gi = i + (c0 & 1), gj = j + (c0 >> 1 & 1), gk = k + (c0 >> 2);
-      const EdgeCrossing c = edge_crossing(f, gi, gj, gk, axis, o_.iso, o_.normals);
-      h.point[e] = {(c.index_point.x - double(i)) * s[0], (c.index_point.y - double(j)) * s[1],
-                    (c.index_point.z - double(k)) * s[2]};
-      Vec3d n{-c.index_gradient.x / s[0], -c.index_gradient.y / s[1], -c.index_gradient.z / s[2]};
-      double len = norm(n);
-      if (!(len > 0)) {  // no gradient: the edge itself, pointing from inside to outside
-        n = {double(axis == 0), double(axis == 1), double(axis == 2)};
-        if (!(cs >> c0 & 1)) n = -1.0 * n;
-        len = 1;
-      }
-      h.normal[e] = (1.0 / len) * n;
+      store_crossing(h, e, cs, edge_crossing(f, gi, gj, gk, e / 4, o_.iso, o_.normals), i, j, k);
     }
     return h;
+  }
+
+  // The Hermite data of the cut edges of the cell at the centre of a neighbourhood key: what
+  // cell_hermite gives for cell (1, 1, 1) of a 4 x 4 x 4 field holding the key, bit for bit (on a
+  // 0/1 field the crossings are edge midpoints and the gradients multiples of 1/32, all exact),
+  // from the key's bits: each corner's gradient once instead of once per cut edge at it.
+  CellHermite key_hermite(uint64_t key, int cs) const {
+    auto at = [&](int x, int y, int z) { return double(key >> (y + 4 * z + 16 * x) & 1); };
+    Vec3d gradient[8];
+    for (int n = 0; n < 8; ++n) {
+      const int x = 1 + (n & 1), y = 1 + (n >> 1 & 1), z = 1 + (n >> 2);
+      if (o_.normals == NormalMethod::sobel) {  // as sobel_gradient
+        static constexpr double w[3] = {1, 2, 1};
+        double g[3] = {0, 0, 0};
+        for (int dk = -1; dk <= 1; ++dk) {
+          for (int dj = -1; dj <= 1; ++dj) {
+            for (int di = -1; di <= 1; ++di) {
+              const double f = at(x + di, y + dj, z + dk);
+              g[0] += di * w[dj + 1] * w[dk + 1] * f;
+              g[1] += dj * w[di + 1] * w[dk + 1] * f;
+              g[2] += dk * w[di + 1] * w[dj + 1] * f;
+            }
+          }
+        }
+        gradient[n] = {g[0] / 32, g[1] / 32, g[2] / 32};
+      } else {  // as central_gradient
+        gradient[n] = {(at(x + 1, y, z) - at(x - 1, y, z)) / 2,
+                       (at(x, y + 1, z) - at(x, y - 1, z)) / 2,
+                       (at(x, y, z + 1) - at(x, y, z - 1)) / 2};
+      }
+    }
+    CellHermite h;
+    for (int e = 0; e < 12; ++e) {
+      const int c0 = kMcEdgeCorner[e][0], c1 = kMcEdgeCorner[e][1];
+      if ((cs >> c0 & 1) == (cs >> c1 & 1)) continue;
+      const int axis = e / 4;
+      EdgeCrossing c;  // as edge_crossing: t = 0.5 between a 0 and a 1
+      c.t = 0.5;
+      c.index_point = {1 + (c0 & 1) + c.t * (axis == 0), 1 + (c0 >> 1 & 1) + c.t * (axis == 1),
+                       1 + (c0 >> 2) + c.t * (axis == 2)};
+      c.index_gradient = (1 - c.t) * gradient[c0] + c.t * gradient[c1];
+      store_crossing(h, e, cs, c, 1, 1, 1);
+    }
+    return h;
+  }
+
+  // Edge e's crossing c as Hermite data of cell (i, j, k) with case cs.
+  void store_crossing(CellHermite& h, int e, int cs, const EdgeCrossing& c, int64_t i, int64_t j,
+                      int64_t k) const {
+    const auto& s = grid_.spacing;
+    const int axis = e / 4;
+    h.point[e] = {(c.index_point.x - double(i)) * s[0], (c.index_point.y - double(j)) * s[1],
+                  (c.index_point.z - double(k)) * s[2]};
+    Vec3d n{-c.index_gradient.x / s[0], -c.index_gradient.y / s[1], -c.index_gradient.z / s[2]};
+    double len = norm(n);
+    if (!(len > 0)) {  // no gradient: the edge itself, pointing from inside to outside
+      n = {double(axis == 0), double(axis == 1), double(axis == 2)};
+      if (!(cs >> kMcEdgeCorner[e][0] & 1)) n = -1.0 * n;
+      len = 1;
+    }
+    h.normal[e] = (1.0 / len) * n;
   }
 
   // The QEF vertices of every sheet of cell (i, j, k) of field f, relative to the cell; the QEFs
@@ -762,9 +811,13 @@ class Extractor {
   template <class F>
   CellVertices solve_cell(const Volume<F>& f, int64_t i, int64_t j, int64_t k, int cs,
                           Qef* qefs) const {
+    return solve_sheets(cell_hermite(f, i, j, k, cs), cs, qefs);
+  }
+
+  // The QEF vertices of every sheet of a cell with case cs and Hermite data h.
+  CellVertices solve_sheets(const CellHermite& h, int cs, Qef* qefs) const {
     const auto& s = grid_.spacing;
     const DcCase& dc = table_.cases[static_cast<size_t>(cs)];
-    const CellHermite h = cell_hermite(f, i, j, k, cs);
     CellVertices out;
     for (int piece = 0; piece < dc.piece_count; ++piece) {
       Qef qef;
@@ -792,21 +845,10 @@ class Extractor {
     return out;
   }
 
-  // The sheets of a binary cell from its neighbourhood key (below): the cell is solved in a
-  // 4 x 4 x 4 field holding the key, which gives exactly what the whole field gives, as every
-  // gradient of the cell's corners reads only those points. `local` is that field's storage,
-  // reused from solve to solve (empty the first time).
-  CellVertices solve_key(uint64_t key, int cs, Qef* qefs, Volume<uint8_t>& local) const {
-    if (local.voxels.size() != 64) {
-      local.grid = grid_;
-      local.grid.dims = {4, 4, 4};
-      local.voxels.resize(64);
-    }
-    for (int x = 0; x < 4; ++x) {
-      for (int n = 0; n < 16; ++n)
-        local.voxels[static_cast<size_t>(x + 4 * n)] = uint8_t(key >> (n + 16 * x) & 1);
-    }
-    return solve_cell(local, 1, 1, 1, cs, qefs);
+  // The sheets of a binary cell from its neighbourhood key (below), which gives exactly what the
+  // whole field gives, as every gradient of the cell's corners reads only those points.
+  CellVertices solve_key(uint64_t key, int cs, Qef* qefs) const {
+    return solve_sheets(key_hermite(key, cs), cs, qefs);
   }
 
   // The Marching Cubes case of the cell at the centre of a neighbourhood key.
@@ -822,13 +864,12 @@ class Extractor {
   // The single sheet of the cell with neighbourhood `key`, solved in the frame of its mirror
   // class (SolvedNeighbourhoods) and mirrored back into `out`; false (nothing written) when the
   // class's cell does not hold exactly one sheet.
-  bool solve_mirrored(uint64_t key, SolvedNeighbourhoods& table, Volume<uint8_t>& local,
-                      SheetVertices& out) const {
+  bool solve_mirrored(uint64_t key, SolvedNeighbourhoods& table, SheetVertices& out) const {
     const CanonicalKey c = canonical_key(key);
     const int cs = case_of_key(c.key);
     if (pieces(cs) != 1) return false;
     const CanonicalSheet& sheet = table.by_class.get(c.key, [&](CanonicalSheet& made) {
-      const CellVertices v = solve_key(c.key, cs, nullptr, local);
+      const CellVertices v = solve_key(c.key, cs, nullptr);
       made = {{v.offset[0].x, v.offset[0].y, v.offset[0].z},
               {v.normal_sum[0].x, v.normal_sum[0].y, v.normal_sum[0].z}};
     });
@@ -903,7 +944,6 @@ class Extractor {
     tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 16), [&](const auto& range) {
       throw_if_cancelled(progress_);
       SolvedNeighbourhoods* table = solved ? &solved->tables->threads.local() : nullptr;
-      Volume<uint8_t> local;  // solve_key's
       for (int64_t r = range.begin(); r < range.end(); ++r) {
         const int64_t j = r % cy_, k = r / cy_;
         const bool rows_inside = j >= 1 && k >= 1 && j + 2 < ny_ && k + 2 < nz_;
@@ -944,8 +984,8 @@ class Extractor {
             } else if (table && n <= SheetVertices::kPieces) {
               const uint64_t key = neighbourhood(columns, x);
               const SheetVertices& v = table->by_key.get(key, [&](SheetVertices& out) {
-                if (n == 1 && solve_mirrored(key, *table, local, out)) return;
-                const CellVertices full = solve_key(key, cs(), nullptr, local);
+                if (n == 1 && solve_mirrored(key, *table, out)) return;
+                const CellVertices full = solve_key(key, cs(), nullptr);
                 for (int p = 0; p < n; ++p) {
                   out.offset[p][0] = static_cast<float>(full.offset[p].x);
                   out.offset[p][1] = static_cast<float>(full.offset[p].y);
@@ -958,7 +998,7 @@ class Extractor {
             } else if (f_ != nullptr) {
               emit_all(solve_cell(*f_, x, j, k, cs(), qefs));
             } else {
-              emit_all(solve_key(neighbourhood(columns, x), cs(), qefs, local));
+              emit_all(solve_key(neighbourhood(columns, x), cs(), qefs));
             }
             id += static_cast<uint32_t>(n);
           }
