@@ -117,9 +117,15 @@ QefSolution solve_qef(const Qef& qef, double eps) {
   const double sigma_max = std::sqrt(std::max({lambda.x, lambda.y, lambda.z, 0.0}));
   double lam[3] = {lambda.x, lambda.y, lambda.z};
   Vec3d y{};
+  // Singular values within a relative kCutoffTolerance of the cut-off are kept. A 0/1 field's
+  // symmetric cells put some exactly on it (square pixels, the default eps of one half), and which
+  // side rounding puts them on differs between a cell and its mirror image, whose vertex would
+  // then differ by up to a third of a voxel instead of mirroring it (Dual Contouring solves a
+  // neighbourhood's mirror images once, dual_contouring.cpp).
+  constexpr double kCutoffTolerance = 1e-9;
   for (int i = 0; i < 3; ++i) {
     const double sigma = std::sqrt(std::max(lam[i], 0.0));
-    if (sigma_max <= 0 || sigma < eps * sigma_max) continue;
+    if (sigma_max <= 0 || sigma < eps * sigma_max * (1 - kCutoffTolerance)) continue;
     const Vec3d axis{v[i], v[3 + i], v[6 + i]};
     y = y + (dot(axis, rhs) / lam[i]) * axis;
     ++out.rank;

@@ -39,7 +39,8 @@ struct QefSolution {
   int rank = 0;      // singular values kept
 };
 
-// Minimises E, dropping singular values below eps * the largest.
+// Minimises E, dropping singular values below eps * the largest (those within a relative 1e-9
+// of that cut-off are kept, so that rounding never decides).
 QefSolution solve_qef(const Qef& qef, double eps);
 
 // Moves x back along the line towards the mass point (itself first clamped into the box) until it

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <string>
 
 #include "segmesh/dual_contouring_table.hpp"
 #include "segmesh/marching_cubes.hpp"
@@ -291,40 +292,64 @@ TEST(DualContouring, MirroredGridKeepsOutwardWinding) {
 }
 
 // A 0/1 field of bytes is served by the solved neighbourhoods (keyed by the points the gradients
-// read, single sheets solved once per mirror class and mirrored back); the same field as floats is
-// solved cell by cell. Both give the same triangles, on vertices equal up to the rounding of the
-// mirroring.
+// read, single sheets solved once per class of mirror images, and of x-y exchanges where the
+// pixels are square, then transformed back); the same field as floats is solved cell by cell. Both
+// give the same triangles (but for near ties of a quad's diagonals), on vertices equal up to the
+// rounding of the transformation: on anisotropic voxels, on square pixels (the exchange) and on a
+// rotated, mirrored grid.
 TEST(DualContouring, CachedNeighbourhoodsGiveWhatSolvingEveryCellGives) {
   std::mt19937 rng(11);
   std::bernoulli_distribution coin(0.45);
   std::vector<uint8_t> inside(70 * 12 * 10);
   for (auto& x : inside) x = coin(rng);
-  Volume<uint8_t> bytes = padded({70, 12, 10}, inside, 2);
-  bytes.grid.spacing = {0.7, 0.5, 1.5};
-  Volume<float> floats;
-  floats.grid = bytes.grid;
-  floats.voxels.assign(bytes.voxels.begin(), bytes.voxels.end());
-  for (NormalMethod normals : {NormalMethod::central, NormalMethod::sobel}) {
-    const DcOptions o{.normals = normals};
-    const TriMesh cached = dual_contouring(bytes, o);
-    const TriMesh solved = dual_contouring(floats, o);
-    const char* name = normals == NormalMethod::sobel ? "sobel" : "central";
-    ASSERT_GT(cached.triangle_count(), 1000u);
-    EXPECT_EQ(cached.indices, solved.indices) << name;
-    ASSERT_EQ(cached.positions.size(), solved.positions.size()) << name;
-    ASSERT_EQ(cached.normals.size(), solved.normals.size()) << name;
-    auto distance = [](Vec3f a, Vec3f b) { return norm(to_double(a) - to_double(b)); };
-    double position_error = 0, normal_error = 0;
-    size_t exact = 0;
-    for (size_t v = 0; v < cached.positions.size(); ++v) {
-      const double d = distance(cached.positions[v], solved.positions[v]);
-      position_error = std::max(position_error, d);
-      normal_error = std::max(normal_error, distance(cached.normals[v], solved.normals[v]));
-      exact += d == 0;
+  const double c = std::cos(0.5), s = std::sin(0.5);
+  struct Case {
+    std::array<double, 3> spacing;
+    Mat3d direction;
+  };
+  const Case cases[] = {{{0.7, 0.5, 1.5}, identity3()},
+                        {{0.6, 0.6, 1.5}, identity3()},
+                        {{0.6, 0.6, 1.5}, {c, -s, 0, s, c, 0, 0, 0, -1}}};
+  for (const Case& grid : cases) {
+    Volume<uint8_t> bytes = padded({70, 12, 10}, inside, 2);
+    bytes.grid.spacing = grid.spacing;
+    bytes.grid.direction = grid.direction;
+    Volume<float> floats;
+    floats.grid = bytes.grid;
+    floats.voxels.assign(bytes.voxels.begin(), bytes.voxels.end());
+    for (NormalMethod normals : {NormalMethod::central, NormalMethod::sobel}) {
+      const DcOptions o{.normals = normals};
+      const TriMesh cached = dual_contouring(bytes, o);
+      const TriMesh solved = dual_contouring(floats, o);
+      const std::string name = std::string(normals == NormalMethod::sobel ? "sobel" : "central") +
+                               ", spacing x " + std::to_string(grid.spacing[0]) +
+                               (grid.direction == identity3() ? "" : ", rotated");
+      ASSERT_GT(cached.triangle_count(), 1000u);
+      // The same triangles, except where a quad's two diagonals score within rounding of each
+      // other and the last bit of a vertex picks the other one (a few quads in 45 000).
+      ASSERT_EQ(cached.indices.size(), solved.indices.size()) << name;
+      size_t differing = 0;
+      for (size_t i = 0; i < cached.indices.size(); ++i)
+        differing += cached.indices[i] != solved.indices[i];
+      EXPECT_LT(differing, cached.indices.size() / 2000) << name;
+      const MeshMeasures m = measure_mesh(cached);
+      EXPECT_TRUE(m.closed()) << name;
+      EXPECT_EQ(m.nonmanifold_vertices, 0) << name;
+      ASSERT_EQ(cached.positions.size(), solved.positions.size()) << name;
+      ASSERT_EQ(cached.normals.size(), solved.normals.size()) << name;
+      auto distance = [](Vec3f a, Vec3f b) { return norm(to_double(a) - to_double(b)); };
+      double position_error = 0, normal_error = 0;
+      size_t exact = 0;
+      for (size_t v = 0; v < cached.positions.size(); ++v) {
+        const double d = distance(cached.positions[v], solved.positions[v]);
+        position_error = std::max(position_error, d);
+        normal_error = std::max(normal_error, distance(cached.normals[v], solved.normals[v]));
+        exact += d == 0;
+      }
+      EXPECT_LT(position_error, 1e-5) << name;  // mm; the vertices are ~0.5 mm apart
+      EXPECT_LT(normal_error, 1e-6) << name;
+      EXPECT_GT(exact, cached.positions.size() / 2) << name;
     }
-    EXPECT_LT(position_error, 1e-5) << name;  // mm; the vertices are ~0.5 mm apart
-    EXPECT_LT(normal_error, 1e-6) << name;
-    EXPECT_GT(exact, cached.positions.size() / 2) << name;
   }
 }
 

@@ -196,6 +196,22 @@ TEST(SolveQef, ThreeOrthogonalPlanesGiveTheirCornerWithRankThree) {
   }
 }
 
+// A singular value on the cut-off, or within rounding of it, is kept; one clearly below is
+// dropped. Four samples of the plane x = 1 and one of y = 2: singular values 2 and 1.
+TEST(SolveQef, SingularValuesWithinRoundingOfTheCutOffAreKept) {
+  Qef q;
+  for (int i = 0; i < 4; ++i) q.add({1, double(i), 0}, {1, 0, 0});
+  q.add({0, 2, 0}, {0, 1, 0});
+  for (double eps : {0.5, 0.5 * (1 + 1e-12)}) {
+    const QefSolution s = solve_qef(q, eps);
+    EXPECT_EQ(s.rank, 2) << "eps " << eps;
+    EXPECT_NEAR(s.position.y, 2, 1e-12) << "eps " << eps;
+  }
+  const QefSolution dropped = solve_qef(q, 0.5 * (1 + 1e-6));
+  EXPECT_EQ(dropped.rank, 1);
+  EXPECT_NEAR(dropped.position.y, q.mass_point().y, 1e-12);
+}
+
 TEST(SolveQef, TwoPlanesGiveThePointOfTheirLineClosestToTheMassPoint) {
   const Mat3d r = rotation(-0.5, 0.8, 0.15);
   const Vec3d on_line{0.7, 1.1, -0.4};
