@@ -542,19 +542,28 @@ class Extractor {
     }
   }
 
-  // Pass 1: the cell words, each row's sheets (into vertex_first_) and whether it has rare cells.
+  // Pass 1: the cell words, each row's sheets (into vertex_first_), two triangles per cut edge
+  // it owns (into triangle_first_, corrected by count_polygons), whether it has rare cells, and
+  // whether it owns a cut edge without its four cells (at the row's or the grid's end).
   void count_cells() {
     resize_zeroed(words_, static_cast<size_t>(rows() * cw_));
     row_rare_.assign(static_cast<size_t>(rows()), 0);
-    std::vector<uint64_t> unused;
-    count_rows(vertex_first_, unused, [&](int64_t j, int64_t k, uint64_t& sheets, uint64_t&) {
+    row_short_.assign(static_cast<size_t>(rows()), 0);
+    count_rows(vertex_first_, triangle_first_,
+               [&](int64_t j, int64_t k, uint64_t& sheets, uint64_t& triangles) {
       CellWord* out = words_.data() + row_index(j, k) * size_t(cw_);
       uint64_t rare_any = 0;
+      bool short_row = j + 1 >= cy_ || k + 1 >= cz_;
       for (int64_t w = 0; w < cw_; ++w) {
         const CornerWords c = corners(j, k, w);
         CellWord cw{c.nontrivial() & valid(w), 0};
         if (cw.cells == 0) continue;  // most words (words_ starts zeroed): no rare test
         sheets += uint64_t(std::popcount(cw.cells));
+        const uint64_t e7 = c.cut7() & cw.cells, e11 = c.cut11() & cw.cells;
+        triangles += 2 * uint64_t(std::popcount(c.cut3() & cw.cells) + std::popcount(e7) +
+                                  std::popcount(e11));
+        // Edges 7 and 11 of the row's last cell need cells past the row's end.
+        if (w == cw_ - 1 && (e7 | e11) >> ((cx_ - 1) & 63) & 1) short_row = true;
         for (uint64_t m = cw.cells & c.maybe_rare(); m != 0; m &= m - 1) {
           const int b = std::countr_zero(m);
           const int cs = c.case_of(b);
@@ -567,6 +576,7 @@ class Extractor {
         out[w] = cw;
       }
       row_rare_[row_index(j, k)] = rare_any != 0;
+      row_short_[row_index(j, k)] = short_row && triangles > 0;
     });
   }
 
@@ -618,7 +628,11 @@ class Extractor {
   CellRef cell(const RowQuad& q, int r, int64_t w, int b) const {
     const int64_t jr = q.j + (r & 1), kr = q.k + (r >> 1);
     const bool present = q.exists[r] && (b < 64 ? q.word[r].cells >> b & 1 : q.next[r].cells & 1);
-    if (!present) throw std::logic_error("dual contouring: a cut edge without its four cells");
+    if (!present) {
+      throw std::logic_error(
+          "dual contouring: the field is inside at its border (a cut edge without its four "
+          "cells); pad it with a layer of background");
+    }
     CellRef c = q.word[r].rare & below(b)
                     ? CellRef{kOneSheet, q.first[r] + sheets_in(jr, kr, w, below(b))}
                     : single_sheet(q, r, b);
@@ -637,9 +651,14 @@ class Extractor {
   // Calls visit(axis, quadrant cells, inside at the edge's start) for every cut edge row (j, k)
   // owns, in the order of the cells (x ascending) and, per cell, of its edges 3, 7 and 11. The
   // quadrant cells are the four cells around the edge in polygon() order (kQuadrantDu /
-  // kQuadrantDv). With `rare_only`, only the edges next to a rare cell are visited.
+  // kQuadrantDv). Which edges: every one, only those next to a rare cell, or every one with each
+  // of its four cells checked to exist (throws std::logic_error at the first that does not: the
+  // field is not padded). Unchecked, the cells of a row without rare cells are numbered by
+  // popcounts, which count_polygons has checked for the rows that need it.
+  enum class Edges { all, next_to_rare, all_checked };
   template <class Visit>
-  void owned_edges(int64_t j, int64_t k, bool rare_only, Visit&& visit) const {
+  void owned_edges(int64_t j, int64_t k, Edges which, Visit&& visit) const {
+    const bool rare_only = which == Edges::next_to_rare;
     RowQuad q = row_quad(j, k);
     for (int64_t w = 0; w < cw_; ++w) {
       load_words(q, w);
@@ -660,7 +679,7 @@ class Extractor {
       }
       uint64_t rare = 0;
       for (int r = 0; r < 4; ++r) rare |= q.word[r].rare | (q.next[r].rare & 1);
-      if (rare == 0 && !rare_only) {
+      if (rare == 0 && which == Edges::all) {
         // No rare cell: every cell around the edges holds one sheet, numbered by a popcount
         // (count_polygons has checked that all four exist).
         auto id = [&](int r, int b) { return single_sheet(q, r, b); };
@@ -1044,37 +1063,43 @@ class Extractor {
     return {uint64_t(p.n), 1};
   }
 
-  // Pass 2: triangles and centroid vertices per row: two triangles per owned cut edge, corrected
-  // where a polygon next to a rare cell is not a quad.
+  // Pass 2: the triangles per row corrected where a polygon next to a rare cell is not a quad,
+  // and the centroid vertices (into extra_first_); the rows that own a cut edge without its four
+  // cells throw.
   void count_polygons() {
-    count_rows(triangle_first_, extra_first_, [&](int64_t j, int64_t k, uint64_t& triangles, uint64_t& extra) {
-      const CellWord* row = words(j, k);
-      bool missing = j + 1 >= cy_ || k + 1 >= cz_;
-      for (int64_t w = 0; w < cw_; ++w) {
-        if (row[w].cells == 0) continue;
-        const CornerWords c = corners(j, k, w);
-        const uint64_t e3 = c.cut3() & row[w].cells, e7 = c.cut7() & row[w].cells,
-                       e11 = c.cut11() & row[w].cells;
-        triangles += 2 * uint64_t(std::popcount(e3) + std::popcount(e7) + std::popcount(e11));
-        // Edges 7 and 11 of the row's last cell need cells past the row's end.
-        if (w == cw_ - 1 && (e7 | e11) >> ((cx_ - 1) & 63) & 1) missing = true;
+    const size_t n = static_cast<size_t>(rows());
+    extra_first_.assign(n + 1, 0);
+    // Only the rows next to a rare cell, or short, are looked at.
+    std::vector<int64_t> more(n, 0), extra(n, 0);
+    std::atomic<bool> any{false};
+    tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 256), [&](const auto& range) {
+      throw_if_cancelled(progress_);
+      for (int64_t r = range.begin(); r < range.end(); ++r) {
+        const int64_t j = r % cy_, k = r / cy_;
+        if (row_short_[size_t(r)]) {
+          owned_edges(j, k, Edges::all_checked,
+                      [](int, const auto&, bool) {});  // throws for the cut edge at fault
+        }
+        bool rare = false;
+        for (int q = 0; q < 4; ++q) {
+          const int64_t jr = j + (q & 1), kr = k + (q >> 1);
+          rare = rare || (jr < cy_ && kr < cz_ && row_rare_[row_index(jr, kr)]);
+        }
+        if (!rare) continue;
+        owned_edges(j, k, Edges::next_to_rare, [&](int axis, const auto& quadrant, bool in) {
+          const auto [t, e] = polygon_cost(polygon(axis, quadrant, in));
+          more[size_t(r)] += int64_t(t) - 2;
+          extra[size_t(r)] += int64_t(e);
+        });
+        if (more[size_t(r)] != 0 || extra[size_t(r)] != 0) any = true;
       }
-      if (missing && triangles > 0) {
-        owned_edges(j, k, false,
-                    [](int, const auto&, bool) {});  // throws for the cut edge at fault
-      }
-      bool rare = false;
-      for (int r = 0; r < 4; ++r) {
-        const int64_t jr = j + (r & 1), kr = k + (r >> 1);
-        rare = rare || (jr < cy_ && kr < cz_ && row_rare_[row_index(jr, kr)]);
-      }
-      if (!rare) return;
-      owned_edges(j, k, true, [&](int axis, const auto& quadrant, bool in) {
-        const auto [t, e] = polygon_cost(polygon(axis, quadrant, in));
-        triangles += t - 2;
-        extra += e;
-      });
     });
+    if (!any) return;
+    std::vector<uint64_t> base = triangle_first_;
+    for (size_t r = 0; r < n; ++r) {
+      triangle_first_[r + 1] = triangle_first_[r] + (base[r + 1] - base[r]) + uint64_t(more[r]);
+      extra_first_[r + 1] = extra_first_[r] + uint64_t(extra[r]);
+    }
   }
 
   // Pass 4: the polygons, split into triangles.
@@ -1093,7 +1118,7 @@ class Extractor {
         if (triangle_first_[size_t(r) + 1] == triangle_first_[size_t(r)]) continue;
         uint32_t* out = mesh.indices.data() + 3 * triangle_first_[size_t(r)];
         uint32_t extra = static_cast<uint32_t>(sheets + extra_first_[size_t(r)]);
-        owned_edges(r % cy_, r / cy_, false, [&](int axis, const auto& quadrant, bool in)
+        owned_edges(r % cy_, r / cy_, Edges::all, [&](int axis, const auto& quadrant, bool in)
                                                  __attribute__((always_inline)) {
           auto quad = [&](const uint32_t* q4) {  // its six indices are written by split_quads
             if (pending == quads.size()) {
@@ -1183,6 +1208,7 @@ class Extractor {
   std::array<bool, 256> rare_{};
   std::vector<CellWord> words_;           // per row of cells, cw_ words
   std::vector<uint8_t> row_rare_;         // per row of cells: any rare cell
+  std::vector<uint8_t> row_short_;        // per row of cells: a cut edge without its four cells
   std::vector<uint64_t> vertex_first_;    // per row: its first sheet vertex
   std::vector<uint64_t> triangle_first_;  // per row: its first triangle
   std::vector<uint64_t> extra_first_;     // per row: its first centroid vertex (after the sheets)
