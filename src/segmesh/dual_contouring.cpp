@@ -206,11 +206,11 @@ struct CellHermite {
 };
 
 // The sheet vertices of one cell, relative to it: index-space offset from the cell's first corner
-// and the world unit normal, per piece. What a binary cell's neighbourhood decides completely.
+// and the sum of the crossings' unit normals in the cell's frame (world_normal turns it into the
+// vertex normal), per piece. What a binary cell's neighbourhood decides completely.
 struct CellVertices {
   std::array<Vec3d, kDcMaxPieces> offset;
-  std::array<Vec3f, kDcMaxPieces> normal;
-  std::array<Vec3d, kDcMaxPieces> normal_sum;  // the crossings' unit normals added, cell frame
+  std::array<Vec3d, kDcMaxPieces> normal_sum;  // the crossings' unit normals added (world_normal)
 };
 
 // The sheet vertices of a cell with at most two sheets, as SolvedNeighbourhoods keeps them (plain
@@ -275,6 +275,12 @@ class KeyTable {
   std::vector<Value> values_;
   size_t mask_ = kInitialSlots - 1;
 };
+
+// Whether point (x, y, z) (each 0 .. 3, the cell's corners at 1 and 2) of a neighbourhood key
+// (Extractor::neighbourhood) is inside: bit n + 16 x, n = y + 4 z.
+inline bool key_point(uint64_t key, int x, int y, int z) {
+  return (key >> (y + 4 * z + 16 * x) & 1) != 0;
+}
 
 // The neighbourhood key (Extractor::neighbourhood: bit n + 16 x for point (x, y, z),
 // n = y + 4 z) of the 4 x 4 x 4 points mirrored about the cell's centre along the axes set in
@@ -769,29 +775,14 @@ class Extractor {
   // 0/1 field the crossings are edge midpoints and the gradients multiples of 1/32, all exact),
   // from the key's bits: each corner's gradient once instead of once per cut edge at it.
   CellHermite key_hermite(uint64_t key, int cs) const {
-    auto at = [&](int x, int y, int z) { return double(key >> (y + 4 * z + 16 * x) & 1); };
     Vec3d gradient[8];
     for (int n = 0; n < 8; ++n) {
       const int x = 1 + (n & 1), y = 1 + (n >> 1 & 1), z = 1 + (n >> 2);
-      if (o_.normals == NormalMethod::sobel) {  // as sobel_gradient
-        static constexpr double w[3] = {1, 2, 1};
-        double g[3] = {0, 0, 0};
-        for (int dk = -1; dk <= 1; ++dk) {
-          for (int dj = -1; dj <= 1; ++dj) {
-            for (int di = -1; di <= 1; ++di) {
-              const double f = at(x + di, y + dj, z + dk);
-              g[0] += di * w[dj + 1] * w[dk + 1] * f;
-              g[1] += dj * w[di + 1] * w[dk + 1] * f;
-              g[2] += dk * w[di + 1] * w[dj + 1] * f;
-            }
-          }
-        }
-        gradient[n] = {g[0] / 32, g[1] / 32, g[2] / 32};
-      } else {  // as central_gradient
-        gradient[n] = {(at(x + 1, y, z) - at(x - 1, y, z)) / 2,
-                       (at(x, y + 1, z) - at(x, y - 1, z)) / 2,
-                       (at(x, y, z + 1) - at(x, y, z - 1)) / 2};
-      }
+      auto at = [&](int di, int dj, int dk) {
+        return double(key_point(key, x + di, y + dj, z + dk));
+      };
+      gradient[n] = o_.normals == NormalMethod::sobel ? sobel_gradient_of(at)
+                                                      : central_gradient_of(at);
     }
     CellHermite h;
     for (int e = 0; e < 12; ++e) {
@@ -857,7 +848,6 @@ class Extractor {
       const Vec3d target = dc.piece_count > 1 ? qef.mass_point() : solve_qef(qef, o_.svd_eps).position;
       const Vec3d p = keep_in_cell(target, qef.mass_point(), lo, hi, dc.piece_count > 1);
       out.offset[piece] = {p.x / s[0], p.y / s[1], p.z / s[2]};
-      out.normal[piece] = world_normal(normal_sum);
       out.normal_sum[piece] = normal_sum;
       if (qefs) qefs[piece] = qef;
     }
@@ -873,10 +863,8 @@ class Extractor {
   // The Marching Cubes case of the cell at the centre of a neighbourhood key.
   static int case_of_key(uint64_t key) {
     int cs = 0;
-    for (int n = 0; n < 8; ++n) {
-      const int x = 1 + (n & 1), y = 1 + (n >> 1 & 1), z = 1 + (n >> 2);
-      cs |= int(key >> (y + 4 * z + 16 * x) & 1) << n;
-    }
+    for (int n = 0; n < 8; ++n)
+      cs |= int(key_point(key, 1 + (n & 1), 1 + (n >> 1 & 1), 1 + (n >> 2))) << n;
     return cs;
   }
 
@@ -990,7 +978,8 @@ class Extractor {
             auto emit_all = [&](const CellVertices& v) {
               for (int p = 0; p < n; ++p) {
                 const double d[3] = {v.offset[p].x, v.offset[p].y, v.offset[p].z};
-                const float nn[3] = {v.normal[p].x, v.normal[p].y, v.normal[p].z};
+                const Vec3f wn = world_normal(v.normal_sum[p]);
+                const float nn[3] = {wn.x, wn.y, wn.z};
                 emit(p, d, nn);
               }
             };
@@ -1009,8 +998,8 @@ class Extractor {
                   out.offset[p][0] = static_cast<float>(full.offset[p].x);
                   out.offset[p][1] = static_cast<float>(full.offset[p].y);
                   out.offset[p][2] = static_cast<float>(full.offset[p].z);
-                  out.normal[p][0] = full.normal[p].x, out.normal[p][1] = full.normal[p].y;
-                  out.normal[p][2] = full.normal[p].z;
+                  const Vec3f wn = world_normal(full.normal_sum[p]);
+                  out.normal[p][0] = wn.x, out.normal[p][1] = wn.y, out.normal[p][2] = wn.z;
                 }
               });
               for (int p = 0; p < n; ++p) emit(p, v.offset[p], v.normal[p]);

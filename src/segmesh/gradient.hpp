@@ -32,35 +32,23 @@ inline double voxel_clamped(const Volume<T>& v, int64_t i, int64_t j, int64_t k)
 }
 }  // namespace detail
 
-template <class T>
-Vec3d central_gradient(const Volume<T>& v, int64_t i, int64_t j, int64_t k) {
-  using detail::voxel_clamped;
-  const auto& d = v.grid.dims;
-  if (i > 0 && j > 0 && k > 0 && i + 1 < d[0] && j + 1 < d[1] && k + 1 < d[2]) {
-    // Interior (every extraction vertex of a padded field): direct neighbours, no clamping.
-    const T* p = v.voxels.data() + v.grid.index(i, j, k);
-    const int64_t sy = d[0], sz = d[0] * d[1];
-    return {(double(p[1]) - double(p[-1])) / 2, (double(p[sy]) - double(p[-sy])) / 2,
-            (double(p[sz]) - double(p[-sz])) / 2};
-  }
-  return {(voxel_clamped(v, i + 1, j, k) - voxel_clamped(v, i - 1, j, k)) / 2,
-          (voxel_clamped(v, i, j + 1, k) - voxel_clamped(v, i, j - 1, k)) / 2,
-          (voxel_clamped(v, i, j, k + 1) - voxel_clamped(v, i, j, k - 1)) / 2};
+// The gradients from the values around a point: at(di, dj, dk) is the value (double) at offset
+// (di, dj, dk), each in -1 .. 1. The volume versions below read voxels through them; Dual
+// Contouring reads the bits of a cell's neighbourhood (dual_contouring.cpp).
+template <class At>
+Vec3d central_gradient_of(At&& at) {
+  return {(at(1, 0, 0) - at(-1, 0, 0)) / 2, (at(0, 1, 0) - at(0, -1, 0)) / 2,
+          (at(0, 0, 1) - at(0, 0, -1)) / 2};
 }
 
-template <class T>
-Vec3d sobel_gradient(const Volume<T>& v, int64_t i, int64_t j, int64_t k) {
+template <class At>
+Vec3d sobel_gradient_of(At&& at) {
   static constexpr double w[3] = {1, 2, 1};
   double g[3] = {0, 0, 0};
-  const auto& d = v.grid.dims;
-  const bool interior = i > 0 && j > 0 && k > 0 && i + 1 < d[0] && j + 1 < d[1] && k + 1 < d[2];
-  const T* p = interior ? v.voxels.data() + v.grid.index(i, j, k) : nullptr;
-  const int64_t sy = d[0], sz = d[0] * d[1];
   for (int dk = -1; dk <= 1; ++dk) {
     for (int dj = -1; dj <= 1; ++dj) {
       for (int di = -1; di <= 1; ++di) {
-        const double f = interior ? double(p[di + dj * sy + dk * sz])
-                                  : detail::voxel_clamped(v, i + di, j + dj, k + dk);
+        const double f = at(di, dj, dk);
         g[0] += di * w[dj + 1] * w[dk + 1] * f;
         g[1] += dj * w[di + 1] * w[dk + 1] * f;
         g[2] += dk * w[di + 1] * w[dj + 1] * f;
@@ -68,6 +56,31 @@ Vec3d sobel_gradient(const Volume<T>& v, int64_t i, int64_t j, int64_t k) {
     }
   }
   return {g[0] / 32, g[1] / 32, g[2] / 32};
+}
+
+namespace detail {
+// of(at) at voxel (i, j, k) of v: the neighbours read directly inside (every extraction vertex of
+// a padded field), clamped to the volume at its border.
+template <class T, class Of>
+Vec3d volume_gradient(const Volume<T>& v, int64_t i, int64_t j, int64_t k, Of&& of) {
+  const auto& d = v.grid.dims;
+  if (i > 0 && j > 0 && k > 0 && i + 1 < d[0] && j + 1 < d[1] && k + 1 < d[2]) {
+    const T* p = v.voxels.data() + v.grid.index(i, j, k);
+    const int64_t sy = d[0], sz = d[0] * d[1];
+    return of([&](int di, int dj, int dk) { return static_cast<double>(p[di + dj * sy + dk * sz]); });
+  }
+  return of([&](int di, int dj, int dk) { return voxel_clamped(v, i + di, j + dj, k + dk); });
+}
+}  // namespace detail
+
+template <class T>
+Vec3d central_gradient(const Volume<T>& v, int64_t i, int64_t j, int64_t k) {
+  return detail::volume_gradient(v, i, j, k, [](auto&& at) { return central_gradient_of(at); });
+}
+
+template <class T>
+Vec3d sobel_gradient(const Volume<T>& v, int64_t i, int64_t j, int64_t k) {
+  return detail::volume_gradient(v, i, j, k, [](auto&& at) { return sobel_gradient_of(at); });
 }
 
 template <class T>
