@@ -67,7 +67,8 @@ Vec3d volume_gradient(const Volume<T>& v, int64_t i, int64_t j, int64_t k, Of&& 
   if (i > 0 && j > 0 && k > 0 && i + 1 < d[0] && j + 1 < d[1] && k + 1 < d[2]) {
     const T* p = v.voxels.data() + v.grid.index(i, j, k);
     const int64_t sy = d[0], sz = d[0] * d[1];
-    return of([&](int di, int dj, int dk) { return static_cast<double>(p[di + dj * sy + dk * sz]); });
+    return of(
+        [&](int di, int dj, int dk) { return static_cast<double>(p[di + dj * sy + dk * sz]); });
   }
   return of([&](int di, int dj, int dk) { return voxel_clamped(v, i + di, j + dj, k + dk); });
 }
