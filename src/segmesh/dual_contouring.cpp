@@ -945,8 +945,10 @@ class Extractor {
     DcNeighbourhoods* solved = nullptr;
     if (binary_) {
       solved = solved_ ? solved_ : &own.emplace(grid_, o_);
-      if (!solved->tables->fits(grid_, o_))
-        throw std::logic_error("dual contouring: neighbourhoods solved for another grid or options");
+      if (!solved->tables->fits(grid_, o_)) {
+        throw std::logic_error(
+            "dual contouring: neighbourhoods solved for another grid or options");
+      }
     }
     tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 16), [&](const auto& range) {
       throw_if_cancelled(progress_);
