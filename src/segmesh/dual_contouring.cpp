@@ -553,17 +553,20 @@ class Extractor {
   // whether it owns a cut edge without its four cells (at the row's or the grid's end).
   void count_cells() {
     resize_zeroed(words_, static_cast<size_t>(rows() * cw_));
+    word_first_.reset(new uint32_t[static_cast<size_t>(rows() * cw_)]);  // set where cells are
     row_rare_.assign(static_cast<size_t>(rows()), 0);
     row_short_.assign(static_cast<size_t>(rows()), 0);
     count_rows(vertex_first_, triangle_first_,
                [&](int64_t j, int64_t k, uint64_t& sheets, uint64_t& triangles) {
       CellWord* out = words_.data() + row_index(j, k) * size_t(cw_);
+      uint32_t* first = word_first_.get() + row_index(j, k) * size_t(cw_);
       uint64_t rare_any = 0;
       bool short_row = j + 1 >= cy_ || k + 1 >= cz_;
       for (int64_t w = 0; w < cw_; ++w) {
         const CornerWords c = corners(j, k, w);
         CellWord cw{c.nontrivial() & valid(w), 0};
         if (cw.cells == 0) continue;  // most words (words_ starts zeroed): no rare test
+        first[w] = static_cast<uint32_t>(sheets);
         sheets += uint64_t(std::popcount(cw.cells));
         const uint64_t e7 = c.cut7() & cw.cells, e11 = c.cut11() & cw.cells;
         triangles += 2 * uint64_t(std::popcount(c.cut3() & cw.cells) + std::popcount(e7) +
@@ -597,35 +600,36 @@ class Extractor {
   }
 
   // The four rows of cells around the edges row (j, k) owns — (j, k), (j + 1, k), (j, k + 1),
-  // (j + 1, k + 1), as quadrant rows 0 .. 3 — walked word by word: the cells' words and the
-  // first vertex of each row's current word.
+  // (j + 1, k + 1), as quadrant rows 0 .. 3 — seen at one word: the cells' words and the first
+  // vertex of each row's word.
   struct RowQuad {
     int64_t j, k;
     bool exists[4];
-    uint32_t first[4];  // first vertex of word w of each row
+    uint32_t row_first[4];  // first vertex of each row
+    uint32_t first[4];      // first vertex of word w of each row (when it or word w + 1 has cells)
     CellWord word[4], next[4];  // words w and w + 1 (zero where absent)
   };
 
   RowQuad row_quad(int64_t j, int64_t k) const {
-    RowQuad q{j, k, {}, {}, {}, {}};
+    RowQuad q{j, k, {}, {}, {}, {}, {}};
     for (int r = 0; r < 4; ++r) {
       const int64_t jr = j + (r & 1), kr = k + (r >> 1);
       q.exists[r] = jr < cy_ && kr < cz_;
-      q.first[r] = q.exists[r] ? static_cast<uint32_t>(vertex_first_[row_index(jr, kr)]) : 0;
+      q.row_first[r] = q.exists[r] ? static_cast<uint32_t>(vertex_first_[row_index(jr, kr)]) : 0;
     }
     return q;
   }
   void load_words(RowQuad& q, int64_t w) const {
     for (int r = 0; r < 4; ++r) {
       if (!q.exists[r]) continue;
-      const CellWord* row = words(q.j + (r & 1), q.k + (r >> 1));
-      q.word[r] = row[w];
-      q.next[r] = w + 1 < cw_ ? row[w + 1] : CellWord{};
-    }
-  }
-  void advance(RowQuad& q, int64_t w) const {
-    for (int r = 0; r < 4; ++r) {
-      if (q.exists[r]) q.first[r] += sheets_in(q.j + (r & 1), q.k + (r >> 1), w, ~uint64_t{0});
+      const size_t at = row_index(q.j + (r & 1), q.k + (r >> 1)) * size_t(cw_) + size_t(w);
+      q.word[r] = words_[at];
+      q.next[r] = w + 1 < cw_ ? words_[at + 1] : CellWord{};
+      // An empty word's first vertex is the next word's (word_first_ is set only for words with
+      // cells).
+      q.first[r] = q.row_first[r] + (q.word[r].cells   ? word_first_[at]
+                                     : q.next[r].cells ? word_first_[at + 1]
+                                                       : 0);
     }
   }
 
@@ -666,13 +670,11 @@ class Extractor {
   void owned_edges(int64_t j, int64_t k, Edges which, Visit&& visit) const {
     const bool rare_only = which == Edges::next_to_rare;
     RowQuad q = row_quad(j, k);
+    const CellWord* own = words(j, k);
     for (int64_t w = 0; w < cw_; ++w) {
+      const uint64_t cells = own[w].cells;
+      if (cells == 0) continue;
       load_words(q, w);
-      const uint64_t cells = q.word[0].cells;
-      if (cells == 0) {
-        advance(q, w);
-        continue;
-      }
       const CornerWords c = corners(j, k, w);
       uint64_t e3 = c.cut3() & cells, e7 = c.cut7() & cells, e11 = c.cut11() & cells;
       if (rare_only) {
@@ -702,7 +704,6 @@ class Extractor {
             visit(2, std::array<CellRef, 4>{id(0, b + 1), id(1, b + 1), id(1, b), c0},
                   (c.v[3] & bit) != 0);
         }
-        advance(q, w);
         continue;
       }
       for (uint64_t m = e3 | e7 | e11; m != 0; m &= m - 1) {
@@ -727,7 +728,6 @@ class Extractor {
                 (c.v[3] & bit) != 0);
         }
       }
-      advance(q, w);
     }
   }
 
@@ -1198,6 +1198,7 @@ class Extractor {
   const bool mirrored_;  // a mirrored grid reverses every winding
   std::array<bool, 256> rare_{};
   std::vector<CellWord> words_;           // per row of cells, cw_ words
+  std::unique_ptr<uint32_t[]> word_first_;  // per word with cells: the row's sheets before it
   std::vector<uint8_t> row_rare_;         // per row of cells: any rare cell
   std::vector<uint8_t> row_short_;        // per row of cells: a cut edge without its four cells
   std::vector<uint64_t> vertex_first_;    // per row: its first sheet vertex
