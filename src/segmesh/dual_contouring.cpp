@@ -214,9 +214,11 @@ struct CellVertices {
 };
 
 // The sheet vertices of a cell with at most two sheets, as SolvedNeighbourhoods keeps them (plain
-// arrays: nothing to initialise for the cells that only read them). The offsets are float: a
-// 6e-8 voxel rounding, far below the float positions' own, and two thirds of the bytes every
-// cell's lookup reads (pelvis 12.1 to 11.3 ms at one thread).
+// arrays: nothing to initialise for the cells that only read them): world offset from the cell's
+// first corner (grid rotation and spacing applied, so a cell's vertex is its corner plus this)
+// and world unit normal. The offsets are float: a rounding of 1e-7 of the cell's size, far below
+// the float positions' own, and two thirds of the bytes every cell's lookup reads (pelvis 12.1 to
+// 11.3 ms at one thread).
 struct SheetVertices {
   static constexpr int kPieces = 2;
   float offset[kPieces][3];
@@ -880,15 +882,25 @@ class Extractor {
       made = {{v.offset[0].x, v.offset[0].y, v.offset[0].z},
               {v.normal_sum[0].x, v.normal_sum[0].y, v.normal_sum[0].z}};
     });
-    double normal_sum[3];
+    double offset[3], normal_sum[3];
     for (int a = 0; a < 3; ++a) {
       const bool mirrored = (c.axes >> a & 1) != 0;
-      out.offset[0][a] = static_cast<float>(mirrored ? 1 - sheet.offset[a] : sheet.offset[a]);
+      offset[a] = mirrored ? 1 - sheet.offset[a] : sheet.offset[a];
       normal_sum[a] = mirrored ? -sheet.normal_sum[a] : sheet.normal_sum[a];
     }
-    const Vec3f n = world_normal({normal_sum[0], normal_sum[1], normal_sum[2]});
-    out.normal[0][0] = n.x, out.normal[0][1] = n.y, out.normal[0][2] = n.z;
+    store_sheet(out, 0, {offset[0], offset[1], offset[2]}, {normal_sum[0], normal_sum[1], normal_sum[2]});
     return true;
+  }
+
+  // Sheet `piece` of a table entry from its index-space offset and normal sum.
+  void store_sheet(SheetVertices& out, int piece, Vec3d offset, Vec3d normal_sum) const {
+    const auto& s = grid_.spacing;
+    const Vec3d o = grid_.direction * Vec3d{offset.x * s[0], offset.y * s[1], offset.z * s[2]};
+    const Vec3f n = world_normal(normal_sum);
+    float* to = out.offset[piece];
+    to[0] = static_cast<float>(o.x), to[1] = static_cast<float>(o.y), to[2] = static_cast<float>(o.z);
+    float* tn = out.normal[piece];
+    tn[0] = n.x, tn[1] = n.y, tn[2] = n.z;
   }
 
   // The columns of the 16 rows around one row of cells (rows (j - 1 + y, k - 1 + z) at
@@ -950,6 +962,8 @@ class Extractor {
             "dual contouring: neighbourhoods solved for another grid or options");
       }
     }
+    // A cell's first corner in world space: its row's plus x steps along x.
+    const Vec3d step_x = grid_.direction * Vec3d{grid_.spacing[0], 0, 0};
     tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 16), [&](const auto& range) {
       throw_if_cancelled(progress_);
       SolvedNeighbourhoods* table = solved ? &solved->tables->threads.local() : nullptr;
@@ -961,6 +975,7 @@ class Extractor {
           for (int n = 0; n < 16; ++n) around[n] = bits_.row(j - 1 + (n & 3), k - 1 + (n >> 2));
         }
         Columns columns(around);
+        const Vec3d row_corner = grid_.to_world({0, double(j), double(k)});
         uint32_t id = static_cast<uint32_t>(vertex_first_[size_t(r)]);
         const CellWord* row = words(j, k);
         for (int64_t w = 0; w < cw_; ++w) {
@@ -972,17 +987,11 @@ class Extractor {
             // A cell that is not rare holds one sheet; its case is only needed to solve it.
             const auto cs = [&] { return c.case_of(b); };
             const int n = (row[w].rare >> b & 1) ? pieces(cs()) : 1;
-            auto emit = [&](int piece, const auto* d, const float* normal) {
-              mesh.positions[id + piece] =
-                  to_float(grid_.to_world({double(x) + d[0], double(j) + d[1], double(k) + d[2]}));
-              if (normals_) mesh.normals[id + piece] = {normal[0], normal[1], normal[2]};
-            };
             auto emit_all = [&](const CellVertices& v) {
               for (int p = 0; p < n; ++p) {
-                const double d[3] = {v.offset[p].x, v.offset[p].y, v.offset[p].z};
-                const Vec3f wn = world_normal(v.normal_sum[p]);
-                const float nn[3] = {wn.x, wn.y, wn.z};
-                emit(p, d, nn);
+                const Vec3d d{double(x), double(j), double(k)};
+                mesh.positions[id + p] = to_float(grid_.to_world(d + v.offset[p]));
+                if (normals_) mesh.normals[id + p] = world_normal(v.normal_sum[p]);
               }
             };
             Qef* qefs = qefs_.empty() ? nullptr : &qefs_[id];
@@ -996,15 +1005,14 @@ class Extractor {
               const SheetVertices& v = table->by_key.get(key, [&](SheetVertices& out) {
                 if (n == 1 && solve_mirrored(key, *table, out)) return;
                 const CellVertices full = solve_key(key, cs(), nullptr);
-                for (int p = 0; p < n; ++p) {
-                  out.offset[p][0] = static_cast<float>(full.offset[p].x);
-                  out.offset[p][1] = static_cast<float>(full.offset[p].y);
-                  out.offset[p][2] = static_cast<float>(full.offset[p].z);
-                  const Vec3f wn = world_normal(full.normal_sum[p]);
-                  out.normal[p][0] = wn.x, out.normal[p][1] = wn.y, out.normal[p][2] = wn.z;
-                }
+                for (int p = 0; p < n; ++p) store_sheet(out, p, full.offset[p], full.normal_sum[p]);
               });
-              for (int p = 0; p < n; ++p) emit(p, v.offset[p], v.normal[p]);
+              const Vec3d corner = row_corner + double(x) * step_x;
+              for (int p = 0; p < n; ++p) {
+                const float* o = v.offset[p];
+                mesh.positions[id + p] = to_float(corner + Vec3d{o[0], o[1], o[2]});
+                if (normals_) mesh.normals[id + p] = {v.normal[p][0], v.normal[p][1], v.normal[p][2]};
+              }
             } else if (f_ != nullptr) {
               emit_all(solve_cell(*f_, x, j, k, cs(), qefs));
             } else {
