@@ -888,18 +888,20 @@ class Extractor {
       offset[a] = mirrored ? 1 - sheet.offset[a] : sheet.offset[a];
       normal_sum[a] = mirrored ? -sheet.normal_sum[a] : sheet.normal_sum[a];
     }
-    store_sheet(out, 0, {offset[0], offset[1], offset[2]}, {normal_sum[0], normal_sum[1], normal_sum[2]});
+    store_sheet(out, 0, {offset[0], offset[1], offset[2]},
+                {normal_sum[0], normal_sum[1], normal_sum[2]});
     return true;
   }
 
   // Sheet `piece` of a table entry from its index-space offset and normal sum.
   void store_sheet(SheetVertices& out, int piece, Vec3d offset, Vec3d normal_sum) const {
     const auto& s = grid_.spacing;
-    const Vec3d o = grid_.direction * Vec3d{offset.x * s[0], offset.y * s[1], offset.z * s[2]};
+    const Vec3f o =
+        to_float(grid_.direction * Vec3d{offset.x * s[0], offset.y * s[1], offset.z * s[2]});
     const Vec3f n = world_normal(normal_sum);
     float* to = out.offset[piece];
-    to[0] = static_cast<float>(o.x), to[1] = static_cast<float>(o.y), to[2] = static_cast<float>(o.z);
     float* tn = out.normal[piece];
+    to[0] = o.x, to[1] = o.y, to[2] = o.z;
     tn[0] = n.x, tn[1] = n.y, tn[2] = n.z;
   }
 
@@ -1011,7 +1013,8 @@ class Extractor {
               for (int p = 0; p < n; ++p) {
                 const float* o = v.offset[p];
                 mesh.positions[id + p] = to_float(corner + Vec3d{o[0], o[1], o[2]});
-                if (normals_) mesh.normals[id + p] = {v.normal[p][0], v.normal[p][1], v.normal[p][2]};
+                if (normals_)
+                  mesh.normals[id + p] = {v.normal[p][0], v.normal[p][1], v.normal[p][2]};
               }
             } else if (f_ != nullptr) {
               emit_all(solve_cell(*f_, x, j, k, cs(), qefs));
