@@ -5,10 +5,6 @@
 
 #include <algorithm>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include "segmesh/first_touch.hpp"
 #include "segmesh/row_trim.hpp"
 
@@ -26,11 +22,13 @@ InsideBits empty_bits(const std::array<int64_t, 3>& dims) {
 
 }  // namespace
 
-void column_codes(const uint64_t* const* rows, int64_t w, uint16_t* codes) {
 #if defined(__SSE2__)
-  // Bytes: A[n][m] is byte m of rows[n][w]. Interleave rows in pairs, fours, eights, sixteens,
-  // so that v[m] holds A[0 .. 15][m]; bit i of byte n of v[m] is then the bit wanted.
-  __m128i e[8], f[8], g[8], v[8];
+namespace {
+
+// column_bytes' interleave, in registers: v[m] holds byte m of rows[0 .. 15][w].
+void interleave_bytes(const uint64_t* const* rows, int64_t w, __m128i v[8]) {
+  // Bytes: A[n][m] is byte m of rows[n][w]. Interleave rows in pairs, fours, eights, sixteens.
+  __m128i e[8], f[8], g[8];
   for (int t = 0; t < 8; ++t) {
     const __m128i pair = _mm_set_epi64x(static_cast<int64_t>(rows[2 * t + 1][w]),
                                         static_cast<int64_t>(rows[2 * t][w]));
@@ -51,6 +49,28 @@ void column_codes(const uint64_t* const* rows, int64_t w, uint16_t* codes) {
     v[2 * q] = _mm_unpacklo_epi64(g[q], g[4 + q]);
     v[2 * q + 1] = _mm_unpackhi_epi64(g[q], g[4 + q]);
   }
+}
+
+}  // namespace
+#endif
+
+void column_bytes(const uint64_t* const* rows, int64_t w, ColumnBytes& out) {
+#if defined(__SSE2__)
+  __m128i v[8];
+  interleave_bytes(rows, w, v);
+  for (int m = 0; m < 8; ++m) _mm_store_si128(reinterpret_cast<__m128i*>(out.lane[m]), v[m]);
+#else
+  for (int m = 0; m < 8; ++m) {
+    for (int n = 0; n < 16; ++n) out.lane[m][n] = static_cast<uint8_t>(rows[n][w] >> (8 * m));
+  }
+#endif
+}
+
+void column_codes(const uint64_t* const* rows, int64_t w, uint16_t* codes) {
+#if defined(__SSE2__)
+  // Bit i of byte n of v[m] is the bit wanted for column 8 m + i.
+  __m128i v[8];
+  interleave_bytes(rows, w, v);
   for (int m = 0; m < 8; ++m) {
     // movemask takes bit 7 of each byte; a 16-bit shift moves bit i there in both bytes.
     codes[8 * m + 0] = static_cast<uint16_t>(_mm_movemask_epi8(_mm_slli_epi16(v[m], 7)));

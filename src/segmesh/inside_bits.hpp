@@ -4,8 +4,9 @@
 // case of a cell is two bits from each of four rows, the cells that hold surface are a few word
 // operations per 64 cells (a cell is non-trivial when its eight corners are not all equal), and
 // the 4 x 4 x 4 neighbourhood that decides a binary cell's vertex is four 16-bit columns of the
-// sixteen rows around the cell's row (column_codes). A part's bits come straight from its runs,
-// so no byte mask of its bounding box is ever built: one bit per grid point instead of one byte.
+// sixteen rows around the cell's row (column_codes; column_bytes and column_code for a few). A
+// part's bits come straight from its runs, so no byte mask of its bounding box is ever built: one
+// bit per grid point instead of one byte.
 //
 // Every row ends with at least one zero word, so reading the word after the one holding x never
 // leaves the row.
@@ -14,6 +15,10 @@
 #include <array>
 #include <cstdint>
 #include <vector>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "segmesh/component_field.hpp"
 #include "segmesh/components.hpp"
@@ -50,6 +55,28 @@ inline uint64_t shifted_word(const uint64_t* row, int64_t w) {
 // The 64 columns of word w of 16 rows: bit n of codes[b] is bit 64 w + b of rows[n]. (A bit
 // matrix transpose; with SSE2 a byte transpose and 64 movemasks instead of 1024 bit extractions.)
 void column_codes(const uint64_t* const* rows, int64_t w, uint16_t* codes);
+
+// The first half of column_codes, for words where only a few columns are wanted: word w of 16
+// rows with its bytes interleaved, byte n of lane m being byte m of rows[n][w], so that bit i of
+// lane m's sixteen bytes is column 8 m + i (column_code). The 64 movemasks of the second half
+// cost more than this half.
+struct ColumnBytes {
+  alignas(16) uint8_t lane[8][16];
+};
+void column_bytes(const uint64_t* const* rows, int64_t w, ColumnBytes& out);
+
+// Column b (0 .. 63) of a word column_bytes interleaved: codes[b] of column_codes.
+inline uint16_t column_code(const ColumnBytes& c, int b) {
+#if defined(__SSE2__)
+  const __m128i v = _mm_load_si128(reinterpret_cast<const __m128i*>(c.lane[b >> 3]));
+  // movemask takes bit 7 of each byte; a 16-bit shift moves bit i there in both bytes.
+  return static_cast<uint16_t>(_mm_movemask_epi8(_mm_sll_epi16(v, _mm_cvtsi32_si128(7 - (b & 7)))));
+#else
+  unsigned code = 0;
+  for (int n = 0; n < 16; ++n) code |= unsigned(c.lane[b >> 3][n] >> (b & 7) & 1) << n;
+  return static_cast<uint16_t>(code);
+#endif
+}
 
 // The grid points where value >= iso (integers against ceil(iso), floating point in double, NaN
 // outside: row_trim.hpp's InsideTest). Parallel over rows.
