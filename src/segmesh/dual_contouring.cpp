@@ -519,8 +519,13 @@ class Extractor {
   const CellWord* words(int64_t j, int64_t k) const {
     return words_.data() + row_index(j, k) * size_t(cw_);
   }
-  CornerWords corners(int64_t j, int64_t k, int64_t w) const {
-    return {bits_.row(j, k), bits_.row(j + 1, k), bits_.row(j, k + 1), bits_.row(j + 1, k + 1), w};
+  // The four rows of inside bits at the corners of row (j, k)'s cells, word by word.
+  struct CornerRows {
+    const uint64_t* row[4];
+    CornerWords at(int64_t w) const { return {row[0], row[1], row[2], row[3], w}; }
+  };
+  CornerRows corners(int64_t j, int64_t k) const {
+    return {{bits_.row(j, k), bits_.row(j + 1, k), bits_.row(j, k + 1), bits_.row(j + 1, k + 1)}};
   }
   // The cells of word w that exist (x < cx).
   uint64_t valid(int64_t w) const {
@@ -560,13 +565,14 @@ class Extractor {
     row_rare_.assign(static_cast<size_t>(rows()), 0);
     row_short_.assign(static_cast<size_t>(rows()), 0);
     count_rows(vertex_first_, triangle_first_,
-               [&](int64_t j, int64_t k, uint64_t& sheets, uint64_t& triangles) {
+               [&](int64_t j, int64_t k, uint64_t& row_sheets, uint64_t& row_triangles) {
       CellWord* out = words_.data() + row_index(j, k) * size_t(cw_);
       uint32_t* first = word_first_.get() + row_index(j, k) * size_t(cw_);
-      uint64_t rare_any = 0;
+      const CornerRows rows = corners(j, k);
+      uint64_t rare_any = 0, sheets = 0, triangles = 0;
       bool short_row = j + 1 >= cy_ || k + 1 >= cz_;
       for (int64_t w = 0; w < cw_; ++w) {
-        const CornerWords c = corners(j, k, w);
+        const CornerWords c = rows.at(w);
         CellWord cw{c.nontrivial() & valid(w), 0};
         if (cw.cells == 0) continue;  // most words (words_ starts zeroed): no rare test
         first[w] = static_cast<uint32_t>(sheets);
@@ -587,6 +593,7 @@ class Extractor {
         rare_any |= cw.rare;
         out[w] = cw;
       }
+      row_sheets = sheets, row_triangles = triangles;
       row_rare_[row_index(j, k)] = rare_any != 0;
       row_short_[row_index(j, k)] = short_row && triangles > 0;
     });
@@ -674,11 +681,12 @@ class Extractor {
     const bool rare_only = which == Edges::next_to_rare;
     RowQuad q = row_quad(j, k);
     const CellWord* own = words(j, k);
+    const CornerRows rows = corners(j, k);
     for (int64_t w = 0; w < cw_; ++w) {
       const uint64_t cells = own[w].cells;
       if (cells == 0) continue;
       load_words(q, w);
-      const CornerWords c = corners(j, k, w);
+      const CornerWords c = rows.at(w);
       uint64_t e3 = c.cut3() & cells, e7 = c.cut7() & cells, e11 = c.cut11() & cells;
       if (rare_only) {
         auto right = [&](int r) { return (q.word[r].rare >> 1) | (q.next[r].rare << 63); };
@@ -1007,9 +1015,10 @@ class Extractor {
         const Vec3d row_corner = grid_.to_world({0, double(j), double(k)});
         uint32_t id = static_cast<uint32_t>(vertex_first_[size_t(r)]);
         const CellWord* row = words(j, k);
+        const CornerRows corner_rows = corners(j, k);
         for (int64_t w = 0; w < cw_; ++w) {
           if (row[w].cells == 0) continue;
-          const CornerWords c = corners(j, k, w);
+          const CornerWords c = corner_rows.at(w);
           if (keys) columns.load(w, row[w].cells);
           for (uint64_t m = row[w].cells; m != 0; m &= m - 1) {
             const int b = std::countr_zero(m);
