@@ -671,13 +671,15 @@ class Extractor {
   // Calls visit(axis, quadrant cells, inside at the edge's start) for every cut edge row (j, k)
   // owns, in the order of the cells (x ascending) and, per cell, of its edges 3, 7 and 11. The
   // quadrant cells are the four cells around the edge in polygon() order (kQuadrantDu /
-  // kQuadrantDv). Which edges: every one, only those next to a rare cell, or every one with each
-  // of its four cells checked to exist (throws std::logic_error at the first that does not: the
-  // field is not padded). Unchecked, the cells of a row without rare cells are numbered by
-  // popcounts, which count_polygons has checked for the rows that need it.
+  // kQuadrantDv): their CellRefs, or with Edges::all, where no rare cell is near, their vertices
+  // (std::array<uint32_t, 4>: each holds one sheet). Which edges: every one, only those next to a
+  // rare cell, or every one with each of its four cells checked to exist (throws
+  // std::logic_error at the first that does not: the field is not padded). Unchecked, the cells
+  // of a row without rare cells are numbered by popcounts, which count_polygons has checked for
+  // the rows that need it.
   enum class Edges { all, next_to_rare, all_checked };
-  template <class Visit>
-  void owned_edges(int64_t j, int64_t k, Edges which, Visit&& visit) const {
+  template <Edges which, class Visit>
+  void owned_edges(int64_t j, int64_t k, Visit&& visit) const {
     const bool rare_only = which == Edges::next_to_rare;
     RowQuad q = row_quad(j, k);
     const CellWord* own = words(j, k);
@@ -698,24 +700,26 @@ class Extractor {
       }
       uint64_t rare = 0;
       for (int r = 0; r < 4; ++r) rare |= q.word[r].rare | (q.next[r].rare & 1);
-      if (rare == 0 && which == Edges::all) {
-        // No rare cell: every cell around the edges holds one sheet, numbered by a popcount
-        // (count_polygons has checked that all four exist).
-        auto id = [&](int r, int b) { return single_sheet(q, r, b); };
-        for (uint64_t m = e3 | e7 | e11; m != 0; m &= m - 1) {
-          const int b = std::countr_zero(m);
-          const uint64_t bit = uint64_t{1} << b;
-          const CellRef c0 = id(0, b);
-          if (e3 & bit)
-            visit(0, std::array<CellRef, 4>{id(1, b), id(3, b), id(2, b), c0}, (c.v[6] & bit) != 0);
-          if (e7 & bit)
-            visit(1, std::array<CellRef, 4>{id(2, b), id(2, b + 1), id(0, b + 1), c0},
-                  (c.v[5] & bit) != 0);
-          if (e11 & bit)
-            visit(2, std::array<CellRef, 4>{id(0, b + 1), id(1, b + 1), id(1, b), c0},
-                  (c.v[3] & bit) != 0);
+      if constexpr (which == Edges::all) {
+        if (rare == 0) {
+          // No rare cell: every cell around the edges holds one sheet, numbered by a popcount
+          // (count_polygons has checked that all four exist).
+          auto id = [&](int r, int b) { return single_sheet(q, r, b).first_vertex; };
+          using Ids = std::array<uint32_t, 4>;
+          for (uint64_t m = e3 | e7 | e11; m != 0; m &= m - 1) {
+            const int b = std::countr_zero(m);
+            const uint64_t bit = uint64_t{1} << b;
+            const uint32_t c0 = id(0, b);
+            if (e3 & bit) visit(0, Ids{id(1, b), id(3, b), id(2, b), c0}, (c.v[6] & bit) != 0);
+            if (e7 & bit) {
+              visit(1, Ids{id(2, b), id(2, b + 1), id(0, b + 1), c0}, (c.v[5] & bit) != 0);
+            }
+            if (e11 & bit) {
+              visit(2, Ids{id(0, b + 1), id(1, b + 1), id(1, b), c0}, (c.v[3] & bit) != 0);
+            }
+          }
+          continue;
         }
-        continue;
       }
       for (uint64_t m = e3 | e7 | e11; m != 0; m &= m - 1) {
         const int b = std::countr_zero(m);
@@ -1116,8 +1120,8 @@ class Extractor {
       for (int64_t r = range.begin(); r < range.end(); ++r) {
         const int64_t j = r % cy_, k = r / cy_;
         if (row_short_[size_t(r)]) {
-          owned_edges(j, k, Edges::all_checked,
-                      [](int, const auto&, bool) {});  // throws for the cut edge at fault
+          owned_edges<Edges::all_checked>(
+              j, k, [](int, const auto&, bool) {});  // throws for the cut edge at fault
         }
         bool rare = false;
         for (int q = 0; q < 4; ++q) {
@@ -1125,7 +1129,7 @@ class Extractor {
           rare = rare || (jr < cy_ && kr < cz_ && row_rare_[row_index(jr, kr)]);
         }
         if (!rare) continue;
-        owned_edges(j, k, Edges::next_to_rare, [&](int axis, const auto& quadrant, bool in) {
+        owned_edges<Edges::next_to_rare>(j, k, [&](int axis, const auto& quadrant, bool in) {
           const auto [t, e] = polygon_cost(polygon(axis, quadrant, in));
           more[size_t(r)] += int64_t(t) - 2;
           extra[size_t(r)] += int64_t(e);
@@ -1157,25 +1161,17 @@ class Extractor {
         if (triangle_first_[size_t(r) + 1] == triangle_first_[size_t(r)]) continue;
         uint32_t* out = mesh.indices.data() + 3 * triangle_first_[size_t(r)];
         uint32_t extra = static_cast<uint32_t>(sheets + extra_first_[size_t(r)]);
-        owned_edges(r % cy_, r / cy_, Edges::all, [&](int axis, const auto& quadrant, bool in)
-                                                 __attribute__((always_inline)) {
-          auto quad = [&](const uint32_t* q4) {  // its six indices are written by split_quads
-            if (pending == quads.size()) {
-              split_quads(mesh.positions.data(), quads.data(), pending);
-              pending = 0;
-            }
-            quads[pending++] = {out, {q4[0], q4[1], q4[2], q4[3]}};
-            out += 6;
-          };
-          if (quadrant[0].cs == kOneSheet && quadrant[1].cs == kOneSheet &&
-              quadrant[2].cs == kOneSheet &&
-              quadrant[3].cs == kOneSheet) {  // a quad of four single-sheet cells: polygon() inline
-            const bool reverse = in == mirrored_;
-            uint32_t q4[4];
-            for (int n = 0; n < 4; ++n) q4[n] = quadrant[reverse ? 3 - n : n].first_vertex;
-            quad(q4);
-            return;
+        auto quad = [&](const uint32_t* q4) {  // its six indices are written by split_quads
+          if (pending == quads.size()) {
+            split_quads(mesh.positions.data(), quads.data(), pending);
+            pending = 0;
           }
+          quads[pending++] = {out, {q4[0], q4[1], q4[2], q4[3]}};
+          out += 6;
+        };
+        // A polygon next to a rare cell (not inlined: a few per row at most).
+        auto any_polygon = [&](int axis, const std::array<CellRef, 4>& quadrant, bool in)
+            __attribute__((noinline)) {
           const Polygon p = polygon(axis, quadrant, in);
           auto pos = [&](int a) { return to_double(mesh.positions[p.vertex[a]]); };
           if (p.n == 4) {
@@ -1206,7 +1202,24 @@ class Extractor {
             out += 3;
           }
           ++extra;
-        });
+        };
+        owned_edges<Edges::all>(
+            r % cy_,
+            r / cy_, [&](int axis, const auto& quadrant, bool in) __attribute__((always_inline)) {
+              const bool reverse = in == mirrored_;  // polygon()'s winding, for a quad inline
+              uint32_t q4[4];
+              if constexpr (std::is_same_v<std::decay_t<decltype(quadrant)>,
+                                           std::array<uint32_t, 4>>) {
+                for (int n = 0; n < 4; ++n) q4[n] = quadrant[reverse ? 3 - n : n];
+                quad(q4);
+              } else if (quadrant[0].cs == kOneSheet && quadrant[1].cs == kOneSheet &&
+                         quadrant[2].cs == kOneSheet && quadrant[3].cs == kOneSheet) {
+                for (int n = 0; n < 4; ++n) q4[n] = quadrant[reverse ? 3 - n : n].first_vertex;
+                quad(q4);
+              } else {
+                any_polygon(axis, quadrant, in);
+              }
+            });
       }
       split_quads(mesh.positions.data(), quads.data(), pending);
       progress_.update(0.5 + 0.5 * double(rows_done += range.size()) / double(rows()));
