@@ -240,6 +240,13 @@ class KeyTable {
     for (; keys_[h] != 0; h = (h + 1) & mask_) {
       if (keys_[h] == key) return values_[index_[h]];
     }
+    return add(h, key, make);
+  }
+
+ private:
+  // The new entry for `key` at free slot h (not inlined: get's loop stays small).
+  template <class Make>
+  __attribute__((noinline)) const Value& add(size_t h, uint64_t key, Make& make) {
     Value v;
     make(v);
     keys_[h] = key;
@@ -249,7 +256,6 @@ class KeyTable {
     return values_.back();
   }
 
- private:
   static size_t hash(uint64_t k) {
     k ^= k >> 33;
     k *= 0xff51afd7ed558ccdULL;
@@ -1030,20 +1036,8 @@ class Extractor {
             // A cell that is not rare holds one sheet; its case is only needed to solve it.
             const auto cs = [&] { return c.case_of(b); };
             const int n = (row[w].rare >> b & 1) ? pieces(cs()) : 1;
-            auto emit_all = [&](const CellVertices& v) {
-              for (int p = 0; p < n; ++p) {
-                const Vec3d d{double(x), double(j), double(k)};
-                mesh.positions[id + p] = to_float(grid_.to_world(d + v.offset[p]));
-                if (normals_) mesh.normals[id + p] = world_normal(v.normal_sum[p]);
-              }
-            };
-            Qef* qefs = qefs_.empty() ? nullptr : &qefs_[id];
             const bool keyed = rows_inside && x >= 1 && x + 2 < nx_;
-            if (!keyed) {
-              if (f_ == nullptr)
-                throw std::logic_error("dual contouring: a part's cell at its border");
-              emit_all(solve_cell(*f_, x, j, k, cs(), qefs));
-            } else if (table && n <= SheetVertices::kPieces) {
+            if (keyed && table && n <= SheetVertices::kPieces) {  // most cells
               const uint64_t key = neighbourhood(columns, b);
               const SheetVertices& v = table->by_key.get(key, [&](SheetVertices& out) {
                 if (n == 1 && solve_mirrored(key, *table, out)) return;
@@ -1057,10 +1051,22 @@ class Extractor {
                 if (normals_)
                   mesh.normals[id + p] = {v.normal[p][0], v.normal[p][1], v.normal[p][2]};
               }
-            } else if (f_ != nullptr) {
-              emit_all(solve_cell(*f_, x, j, k, cs(), qefs));
             } else {
-              emit_all(solve_key(neighbourhood(columns, b), cs(), qefs));
+              // Solved for this cell alone (not inlined: the loop above stays small).
+              [&]() __attribute__((noinline)) {
+                Qef* qefs = qefs_.empty() ? nullptr : &qefs_[id];
+                if (!keyed && f_ == nullptr)
+                  throw std::logic_error("dual contouring: a part's cell at its border");
+                const CellVertices v = f_ != nullptr
+                                           ? solve_cell(*f_, x, j, k, cs(), qefs)
+                                           : solve_key(neighbourhood(columns, b), cs(), qefs);
+                for (int p = 0; p < n; ++p) {
+                  const Vec3d d{double(x), double(j), double(k)};
+                  mesh.positions[id + p] = to_float(grid_.to_world(d + v.offset[p]));
+                  if (normals_) mesh.normals[id + p] = world_normal(v.normal_sum[p]);
+                }
+              }
+              ();
             }
             id += static_cast<uint32_t>(n);
           }
