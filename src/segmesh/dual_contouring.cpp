@@ -498,8 +498,9 @@ class Extractor {
     TriMesh mesh;
     if (nx_ < 2 || ny_ < 2 || nz_ < 2) return mesh;
     count_cells();
-    const uint64_t sheets = vertex_first_.back();
     count_polygons();
+    prefix_sums();
+    const uint64_t sheets = vertex_first_.back();
     const uint64_t vertices = sheets + extra_first_.back();
     if (vertices > std::numeric_limits<uint32_t>::max()) {
       throw Error("dual contouring: the surface has more than 4 billion vertices; "
@@ -544,65 +545,56 @@ class Extractor {
   }
   int pieces(int cs) const { return table_.cases[static_cast<size_t>(cs)].piece_count; }
 
-  // Two counts per row, count(j, k, a, b) adding to a and b, in parallel over rows; then their
-  // prefix sums into first_a and first_b (rows + 1 entries: where each row's share starts).
-  template <class Count>
-  void count_rows(std::vector<uint64_t>& first_a, std::vector<uint64_t>& first_b, Count&& count) {
+  // Pass 1, in parallel over rows: the cell words, each row's sheets (into vertex_first_[r + 1]),
+  // two triangles per cut edge it owns (into triangle_first_[r + 1], corrected by
+  // count_polygons), whether it has rare cells, and whether it owns a cut edge without its four
+  // cells (at the row's or the grid's end). The counts become first ids in prefix_sums.
+  void count_cells() {
     const size_t n = static_cast<size_t>(rows());
-    std::vector<uint64_t> a(n, 0), b(n, 0);
+    resize_zeroed(words_, n * size_t(cw_));
+    word_first_.reset(new uint32_t[n * size_t(cw_)]);  // set where cells are
+    row_rare_.assign(n, 0);
+    row_short_.assign(n, 0);
+    vertex_first_.assign(n + 1, 0);
+    triangle_first_.assign(n + 1, 0);
     tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 64), [&](const auto& range) {
       throw_if_cancelled(progress_);
-      for (int64_t r = range.begin(); r < range.end(); ++r) count(r % cy_, r / cy_, a[size_t(r)], b[size_t(r)]);
+      for (int64_t r = range.begin(); r < range.end(); ++r) count_row(r % cy_, r / cy_);
     });
-    first_a.assign(n + 1, 0);
-    first_b.assign(n + 1, 0);
-    for (size_t r = 0; r < n; ++r) {
-      first_a[r + 1] = first_a[r] + a[r];
-      first_b[r + 1] = first_b[r] + b[r];
-    }
   }
-
-  // Pass 1: the cell words, each row's sheets (into vertex_first_), two triangles per cut edge
-  // it owns (into triangle_first_, corrected by count_polygons), whether it has rare cells, and
-  // whether it owns a cut edge without its four cells (at the row's or the grid's end).
-  void count_cells() {
-    resize_zeroed(words_, static_cast<size_t>(rows() * cw_));
-    word_first_.reset(new uint32_t[static_cast<size_t>(rows() * cw_)]);  // set where cells are
-    row_rare_.assign(static_cast<size_t>(rows()), 0);
-    row_short_.assign(static_cast<size_t>(rows()), 0);
-    count_rows(vertex_first_, triangle_first_,
-               [&](int64_t j, int64_t k, uint64_t& row_sheets, uint64_t& row_triangles) {
-      CellWord* out = words_.data() + row_index(j, k) * size_t(cw_);
-      uint32_t* first = word_first_.get() + row_index(j, k) * size_t(cw_);
-      const CornerRows rows = corners(j, k);
-      uint64_t rare_any = 0, sheets = 0, triangles = 0;
-      bool short_row = j + 1 >= cy_ || k + 1 >= cz_;
-      for (int64_t w = 0; w < cw_; ++w) {
-        const CornerWords c = rows.at(w);
-        CellWord cw{c.nontrivial() & valid(w), 0};
-        if (cw.cells == 0) continue;  // most words (words_ starts zeroed): no rare test
-        first[w] = static_cast<uint32_t>(sheets);
-        sheets += uint64_t(std::popcount(cw.cells));
-        const uint64_t e7 = c.cut7() & cw.cells, e11 = c.cut11() & cw.cells;
-        triangles += 2 * uint64_t(std::popcount(c.cut3() & cw.cells) + std::popcount(e7) +
-                                  std::popcount(e11));
-        // Edges 7 and 11 of the row's last cell need cells past the row's end.
-        if (w == cw_ - 1 && (e7 | e11) >> ((cx_ - 1) & 63) & 1) short_row = true;
-        for (uint64_t m = cw.cells & c.maybe_rare(); m != 0; m &= m - 1) {
-          const int b = std::countr_zero(m);
-          const int cs = c.case_of(b);
-          if (rare_[static_cast<size_t>(cs)]) {
-            cw.rare |= uint64_t{1} << b;
-            sheets += uint64_t(pieces(cs)) - 1;
-          }
+  // Pass 1 for row (j, k).
+  void count_row(int64_t j, int64_t k) {
+    CellWord* out = words_.data() + row_index(j, k) * size_t(cw_);
+    uint32_t* first = word_first_.get() + row_index(j, k) * size_t(cw_);
+    const CornerRows rows = corners(j, k);
+    uint64_t rare_any = 0, sheets = 0, triangles = 0;
+    bool short_row = j + 1 >= cy_ || k + 1 >= cz_;
+    for (int64_t w = 0; w < cw_; ++w) {
+      const CornerWords c = rows.at(w);
+      CellWord cw{c.nontrivial() & valid(w), 0};
+      if (cw.cells == 0) continue;  // most words (words_ starts zeroed): no rare test
+      first[w] = static_cast<uint32_t>(sheets);
+      sheets += uint64_t(std::popcount(cw.cells));
+      const uint64_t e7 = c.cut7() & cw.cells, e11 = c.cut11() & cw.cells;
+      triangles +=
+          2 * uint64_t(std::popcount(c.cut3() & cw.cells) + std::popcount(e7) + std::popcount(e11));
+      // Edges 7 and 11 of the row's last cell need cells past the row's end.
+      if (w == cw_ - 1 && (e7 | e11) >> ((cx_ - 1) & 63) & 1) short_row = true;
+      for (uint64_t m = cw.cells & c.maybe_rare(); m != 0; m &= m - 1) {
+        const int b = std::countr_zero(m);
+        const int cs = c.case_of(b);
+        if (rare_[static_cast<size_t>(cs)]) {
+          cw.rare |= uint64_t{1} << b;
+          sheets += uint64_t(pieces(cs)) - 1;
         }
-        rare_any |= cw.rare;
-        out[w] = cw;
       }
-      row_sheets = sheets, row_triangles = triangles;
-      row_rare_[row_index(j, k)] = rare_any != 0;
-      row_short_[row_index(j, k)] = short_row && triangles > 0;
-    });
+      rare_any |= cw.rare;
+      out[w] = cw;
+    }
+    vertex_first_[row_index(j, k) + 1] = sheets;
+    triangle_first_[row_index(j, k) + 1] = triangles;
+    row_rare_[row_index(j, k)] = rare_any != 0;
+    row_short_[row_index(j, k)] = short_row && triangles > 0;
   }
 
   // The sheets of the cells of row (j, k)'s word w in `mask`.
@@ -1113,14 +1105,13 @@ class Extractor {
   }
 
   // Pass 2: the triangles per row corrected where a polygon next to a rare cell is not a quad,
-  // and the centroid vertices (into extra_first_); the rows that own a cut edge without its four
-  // cells throw.
+  // and the centroid vertices (into extra_first_[r + 1]); the rows that own a cut edge without
+  // its four cells throw. Only the rows next to a rare cell, or short, are looked at. Runs on the
+  // counts, before prefix_sums: the polygons' vertex ids are not known yet, and their cost only
+  // depends on their shape.
   void count_polygons() {
     const size_t n = static_cast<size_t>(rows());
     extra_first_.assign(n + 1, 0);
-    // Only the rows next to a rare cell, or short, are looked at.
-    std::vector<int64_t> more(n, 0), extra(n, 0);
-    std::atomic<bool> any{false};
     tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 256), [&](const auto& range) {
       throw_if_cancelled(progress_);
       for (int64_t r = range.begin(); r < range.end(); ++r) {
@@ -1137,17 +1128,21 @@ class Extractor {
         if (!rare) continue;
         owned_edges<Edges::next_to_rare>(j, k, [&](int axis, const auto& quadrant, bool in) {
           const auto [t, e] = polygon_cost(polygon(axis, quadrant, in));
-          more[size_t(r)] += int64_t(t) - 2;
-          extra[size_t(r)] += int64_t(e);
+          triangle_first_[size_t(r) + 1] += t - 2;  // a polygon has four vertices or more
+          extra_first_[size_t(r) + 1] += e;
         });
-        if (more[size_t(r)] != 0 || extra[size_t(r)] != 0) any = true;
       }
     });
-    if (!any) return;
-    std::vector<uint64_t> base = triangle_first_;
-    for (size_t r = 0; r < n; ++r) {
-      triangle_first_[r + 1] = triangle_first_[r] + (base[r + 1] - base[r]) + uint64_t(more[r]);
-      extra_first_[r + 1] = extra_first_[r] + uint64_t(extra[r]);
+  }
+
+  // The rows' counts into their first ids: vertex_first_[r] is row r's first sheet vertex,
+  // triangle_first_[r] its first triangle, extra_first_[r] its first centroid vertex (after the
+  // sheets); entry rows() is the total.
+  void prefix_sums() {
+    for (size_t r = 0; r < static_cast<size_t>(rows()); ++r) {
+      vertex_first_[r + 1] += vertex_first_[r];
+      triangle_first_[r + 1] += triangle_first_[r];
+      extra_first_[r + 1] += extra_first_[r];
     }
   }
 
