@@ -216,14 +216,17 @@ struct CellVertices {
 
 // The sheet vertices of a cell with at most two sheets, as SolvedNeighbourhoods keeps them (plain
 // arrays: nothing to initialise for the cells that only read them): world offset from the cell's
-// first corner (grid rotation and spacing applied, so a cell's vertex is its corner plus this)
-// and world unit normal. The offsets are float: a rounding of 1e-7 of the cell's size, far below
-// the float positions' own, and two thirds of the bytes every cell's lookup reads (pelvis 12.1 to
-// 11.3 ms at one thread).
+// first corner (grid rotation and spacing applied, so a cell's vertex is its corner plus this).
+// The offsets are float: a rounding of 1e-7 of the cell's size, far below the float positions'
+// own, and half the bytes every cell's lookup reads (pelvis 12.1 to 11.3 ms at one thread).
 struct SheetVertices {
   static constexpr int kPieces = 2;
   float offset[kPieces][3];
-  float normal[kPieces][3];
+};
+// Their world unit normals, kept apart: only read when vertex normals are asked for (without
+// them in the table, the pelvis's tables are half the fresh memory).
+struct SheetNormals {
+  float normal[SheetVertices::kPieces][3];
 };
 
 // A table from neighbourhood keys (Extractor::neighbourhood) to values, for one thread: open
@@ -233,27 +236,30 @@ struct SheetVertices {
 template <class Value>
 class KeyTable {
  public:
-  // The entry for `key`, made by make(Value&) when missing.
+  // The index of the entry for `key` (in the order the entries were made), made by make(Value&)
+  // when missing.
   template <class Make>
-  const Value& get(uint64_t key, Make&& make) {
+  uint32_t get(uint64_t key, Make&& make) {
     size_t h = hash(key) & mask_;
     for (; keys_[h] != 0; h = (h + 1) & mask_) {
-      if (keys_[h] == key) return values_[index_[h]];
+      if (keys_[h] == key) return index_[h];
     }
     return add(h, key, make);
   }
+  const Value& operator[](uint32_t index) const { return values_[index]; }
 
  private:
   // The new entry for `key` at free slot h (not inlined: get's loop stays small).
   template <class Make>
-  __attribute__((noinline)) const Value& add(size_t h, uint64_t key, Make& make) {
+  __attribute__((noinline)) uint32_t add(size_t h, uint64_t key, Make& make) {
     Value v;
     make(v);
+    const auto index = static_cast<uint32_t>(values_.size());
     keys_[h] = key;
-    index_[h] = static_cast<uint32_t>(values_.size());
+    index_[h] = index;
     values_.push_back(v);
     if (2 * values_.size() > keys_.size()) grow();
-    return values_.back();
+    return index;
   }
 
   static size_t hash(uint64_t k) {
@@ -347,6 +353,7 @@ struct CanonicalSheet {
 // cost more in page faults and cache misses than the solves it shared saved.)
 struct SolvedNeighbourhoods {
   KeyTable<SheetVertices> by_key;
+  std::vector<SheetNormals> normals;  // by_key's entries' normals, in its order (when asked for)
   KeyTable<CanonicalSheet> by_class;
 };
 
@@ -354,17 +361,18 @@ struct SolvedNeighbourhoods {
 
 struct DcNeighbourhoods::Tables {
   // What the entries are solved for: the cell's shape and rotation and the options that shape a
-  // QEF vertex.
+  // QEF vertex, and whether they keep vertex normals.
   std::array<double, 3> spacing;
   Mat3d direction;
   int connectivity;
   NormalMethod normals;
   double svd_eps;
+  bool vertex_normals;
   tbb::enumerable_thread_specific<SolvedNeighbourhoods> threads;  // made on first use per thread
 
   bool fits(const Grid& g, const DcOptions& o) const {
     return g.spacing == spacing && g.direction == direction && o.connectivity == connectivity &&
-           o.normals == normals && o.svd_eps == svd_eps;
+           o.normals == normals && o.svd_eps == svd_eps && o.vertex_normals == vertex_normals;
   }
 };
 
@@ -884,34 +892,37 @@ class Extractor {
   // The single sheet of the cell with neighbourhood `key`, solved in the frame of its mirror
   // class (SolvedNeighbourhoods) and mirrored back into `out`; false (nothing written) when the
   // class's cell does not hold exactly one sheet.
-  bool solve_mirrored(uint64_t key, SolvedNeighbourhoods& table, SheetVertices& out) const {
+  bool solve_mirrored(uint64_t key, SolvedNeighbourhoods& table, SheetVertices& out,
+                      SheetNormals& normals) const {
     const CanonicalKey c = canonical_key(key);
     const int cs = case_of_key(c.key);
     if (pieces(cs) != 1) return false;
-    const CanonicalSheet& sheet = table.by_class.get(c.key, [&](CanonicalSheet& made) {
+    const CanonicalSheet& sheet = table.by_class[table.by_class.get(c.key, [&](CanonicalSheet&
+                                                                                   made) {
       const CellVertices v = solve_key(c.key, cs, nullptr);
       made = {{v.offset[0].x, v.offset[0].y, v.offset[0].z},
               {v.normal_sum[0].x, v.normal_sum[0].y, v.normal_sum[0].z}};
-    });
+    })];
     double offset[3], normal_sum[3];
     for (int a = 0; a < 3; ++a) {
       const bool mirrored = (c.axes >> a & 1) != 0;
       offset[a] = mirrored ? 1 - sheet.offset[a] : sheet.offset[a];
       normal_sum[a] = mirrored ? -sheet.normal_sum[a] : sheet.normal_sum[a];
     }
-    store_sheet(out, 0, {offset[0], offset[1], offset[2]},
+    store_sheet(out, normals, 0, {offset[0], offset[1], offset[2]},
                 {normal_sum[0], normal_sum[1], normal_sum[2]});
     return true;
   }
 
   // Sheet `piece` of a table entry from its index-space offset and normal sum.
-  void store_sheet(SheetVertices& out, int piece, Vec3d offset, Vec3d normal_sum) const {
+  void store_sheet(SheetVertices& out, SheetNormals& normals, int piece, Vec3d offset,
+                   Vec3d normal_sum) const {
     const auto& s = grid_.spacing;
     const Vec3f o =
         to_float(grid_.direction * Vec3d{offset.x * s[0], offset.y * s[1], offset.z * s[2]});
     const Vec3f n = world_normal(normal_sum);
     float* to = out.offset[piece];
-    float* tn = out.normal[piece];
+    float* tn = normals.normal[piece];
     to[0] = o.x, to[1] = o.y, to[2] = o.z;
     tn[0] = n.x, tn[1] = n.y, tn[2] = n.z;
   }
@@ -1031,17 +1042,24 @@ class Extractor {
             const bool keyed = rows_inside && x >= 1 && x + 2 < nx_;
             if (keyed && table && n <= SheetVertices::kPieces) {  // most cells
               const uint64_t key = neighbourhood(columns, b);
-              const SheetVertices& v = table->by_key.get(key, [&](SheetVertices& out) {
-                if (n == 1 && solve_mirrored(key, *table, out)) return;
-                const CellVertices full = solve_key(key, cs(), nullptr);
-                for (int p = 0; p < n; ++p) store_sheet(out, p, full.offset[p], full.normal_sum[p]);
+              const uint32_t entry = table->by_key.get(key, [&](SheetVertices& out) {
+                SheetNormals normals;
+                if (n != 1 || !solve_mirrored(key, *table, out, normals)) {
+                  const CellVertices full = solve_key(key, cs(), nullptr);
+                  for (int p = 0; p < n; ++p)
+                    store_sheet(out, normals, p, full.offset[p], full.normal_sum[p]);
+                }
+                if (normals_) table->normals.push_back(normals);
               });
+              const SheetVertices& v = table->by_key[entry];
               const Vec3d corner = row_corner + double(x) * step_x;
               for (int p = 0; p < n; ++p) {
                 const float* o = v.offset[p];
                 mesh.positions[id + p] = to_float(corner + Vec3d{o[0], o[1], o[2]});
-                if (normals_)
-                  mesh.normals[id + p] = {v.normal[p][0], v.normal[p][1], v.normal[p][2]};
+                if (normals_) {
+                  const float* nn = table->normals[entry].normal[p];
+                  mesh.normals[id + p] = {nn[0], nn[1], nn[2]};
+                }
               }
             } else {
               // Solved for this cell alone (not inlined: the loop above stays small).
@@ -1162,7 +1180,8 @@ class Extractor {
         if (triangle_first_[size_t(r) + 1] == triangle_first_[size_t(r)]) continue;
         uint32_t* out = mesh.indices.data() + 3 * triangle_first_[size_t(r)];
         uint32_t extra = static_cast<uint32_t>(sheets + extra_first_[size_t(r)]);
-        auto quad = [&](const uint32_t* q4) {  // its six indices are written by split_quads
+        // Its six indices are written by split_quads (inlined: the hot path of the pass).
+        auto quad = [&](const uint32_t* q4) __attribute__((always_inline)) {
           if (pending == quads.size()) {
             split_quads(mesh.positions.data(), quads.data(), pending);
             pending = 0;
@@ -1285,8 +1304,13 @@ bool is_binary(const Volume<T>& field, double iso) {
 }  // namespace
 
 DcNeighbourhoods::DcNeighbourhoods(const Grid& grid, const DcOptions& options)
-    : tables(new Tables{grid.spacing, grid.direction, options.connectivity, options.normals,
-                        options.svd_eps, {}}) {}
+    : tables(new Tables{grid.spacing,
+                        grid.direction,
+                        options.connectivity,
+                        options.normals,
+                        options.svd_eps,
+                        options.vertex_normals,
+                        {}}) {}
 
 DcNeighbourhoods::~DcNeighbourhoods() = default;
 

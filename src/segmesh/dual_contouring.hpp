@@ -65,8 +65,9 @@ TriMesh dual_contouring(const Volume<T>& field, const DcOptions& options,
 // The QEF vertices of binary cells already solved, by neighbourhood, for the parts of one label
 // map to share: extract_parts (pipeline.hpp) passes one to every part, so a neighbourhood that
 // recurs in several parts (identical screws, bones of one scan) is solved once per thread for the
-// whole scene. Made for one grid spacing and direction and one connectivity, normal operator and
-// svd_eps; dual_contouring throws std::logic_error when given it with others. Thread-safe.
+// whole scene. Made for one grid spacing and direction and one connectivity, normal operator,
+// svd_eps and choice of vertex normals; dual_contouring throws std::logic_error when given it with
+// others. Thread-safe.
 class DcNeighbourhoods {
  public:
   DcNeighbourhoods(const Grid& grid, const DcOptions& options);

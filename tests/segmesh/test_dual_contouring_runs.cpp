@@ -120,8 +120,11 @@ TEST(DualContouringRuns, SharedNeighbourhoodsGiveEachPartItsOwnMesh) {
   DcNeighbourhoods elsewhere(other, o);
   EXPECT_THROW(dual_contouring(labels.grid, c, c.components[0], o, null_progress(), &elsewhere),
                std::logic_error);
-  DcNeighbourhoods sobel(labels.grid, {.normals = NormalMethod::sobel});
+  DcNeighbourhoods sobel(labels.grid, {.normals = NormalMethod::sobel, .vertex_normals = true});
   EXPECT_THROW(dual_contouring(labels.grid, c, c.components[0], o, null_progress(), &sobel),
+               std::logic_error);
+  DcNeighbourhoods no_normals(labels.grid, {.vertex_normals = false});  // entries without normals
+  EXPECT_THROW(dual_contouring(labels.grid, c, c.components[0], o, null_progress(), &no_normals),
                std::logic_error);
 }
 
