@@ -929,12 +929,12 @@ class Extractor {
     const CanonicalKey c = canonical_key(key & relevant_points_[size_t(case_of_key(key))]);
     const int cs = case_of_key(c.key);
     if (pieces(cs) != 1) return false;
-    const CanonicalSheet& sheet = table.by_class[table.by_class.get(c.key, [&](CanonicalSheet&
-                                                                                   made) {
+    const uint32_t class_entry = table.by_class.get(c.key, [&](CanonicalSheet& made) {
       const CellVertices v = solve_key(c.key, cs, nullptr);
       made = {{v.offset[0].x, v.offset[0].y, v.offset[0].z},
               {v.normal_sum[0].x, v.normal_sum[0].y, v.normal_sum[0].z}};
-    })];
+    });
+    const CanonicalSheet& sheet = table.by_class[class_entry];
     double offset[3], normal_sum[3];
     for (int a = 0; a < 3; ++a) {
       const bool mirrored = (c.axes >> a & 1) != 0;
@@ -1095,7 +1095,7 @@ class Extractor {
               }
             } else {
               // Solved for this cell alone (not inlined: the loop above stays small).
-              [&]() __attribute__((noinline)) {
+              auto solve_alone = [&]() __attribute__((noinline)) {
                 Qef* qefs = qefs_.empty() ? nullptr : &qefs_[id];
                 if (!keyed && f_ == nullptr)
                   throw std::logic_error("dual contouring: a part's cell at its border");
@@ -1107,8 +1107,8 @@ class Extractor {
                   mesh.positions[id + p] = to_float(grid_.to_world(d + v.offset[p]));
                   if (normals_) mesh.normals[id + p] = world_normal(v.normal_sum[p]);
                 }
-              }
-              ();
+              };
+              solve_alone();
             }
             id += static_cast<uint32_t>(n);
           }
@@ -1212,7 +1212,8 @@ class Extractor {
         if (triangle_first_[size_t(r) + 1] == triangle_first_[size_t(r)]) continue;
         uint32_t* out = mesh.indices.data() + 3 * triangle_first_[size_t(r)];
         uint32_t extra = static_cast<uint32_t>(sheets + extra_first_[size_t(r)]);
-        // Its six indices are written by split_quads (inlined: the hot path of the pass).
+        // A quad waiting for its diagonal; split_quads writes its six indices. Always inlined: the
+        // pass's hot path (the compiler once stopped inlining it, and the phantom lost 7 %).
         auto quad = [&](const uint32_t* q4) __attribute__((always_inline)) {
           if (pending == quads.size()) {
             split_quads(mesh.positions.data(), quads.data(), pending);
@@ -1255,9 +1256,9 @@ class Extractor {
           }
           ++extra;
         };
+        const int64_t j = r % cy_, k = r / cy_;
         owned_edges<Edges::all>(
-            r % cy_,
-            r / cy_, [&](int axis, const auto& quadrant, bool in) __attribute__((always_inline)) {
+            j, k, [&](int axis, const auto& quadrant, bool in) __attribute__((always_inline)) {
               const bool reverse = in == mirrored_;  // polygon()'s winding, for a quad inline
               uint32_t q4[4];
               if constexpr (std::is_same_v<std::decay_t<decltype(quadrant)>,
