@@ -946,16 +946,18 @@ class Extractor {
     return true;
   }
 
-  // Sheet `piece` of a table entry from its index-space offset and normal sum.
+  // Sheet `piece` of a table entry from its index-space offset and normal sum (the normal only
+  // when vertex normals are asked for).
   void store_sheet(SheetVertices& out, SheetNormals& normals, int piece, Vec3d offset,
                    Vec3d normal_sum) const {
     const auto& s = grid_.spacing;
     const Vec3f o =
         to_float(grid_.direction * Vec3d{offset.x * s[0], offset.y * s[1], offset.z * s[2]});
-    const Vec3f n = world_normal(normal_sum);
     float* to = out.offset[piece];
-    float* tn = normals.normal[piece];
     to[0] = o.x, to[1] = o.y, to[2] = o.z;
+    if (!normals_) return;
+    const Vec3f n = world_normal(normal_sum);
+    float* tn = normals.normal[piece];
     tn[0] = n.x, tn[1] = n.y, tn[2] = n.z;
   }
 
