@@ -30,8 +30,9 @@
 // and consistently wound, with the connectivity of marching_cubes.hpp.
 // Cost: one pass over the field to pack its bits (for a label part, its runs set them: no mask),
 // then a few word operations per 64 cells per pass plus O(non-trivial cells), and one QEF solve per
-// sheet (per distinct neighbourhood on a 0/1 field); memory one bit per grid point, 16 bytes per
-// word of cells, and the output.
+// sheet (on a 0/1 field, per distinct neighbourhood, or per mirror class of the points a single
+// sheet depends on); memory one bit per grid point, 20 bytes per word of cells (its cells, rare
+// cells and first vertex), 26 per row of cells, the solved neighbourhoods, and the output.
 #pragma once
 
 #include <cstdint>
