@@ -10,8 +10,10 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <stdexcept>
 #include <type_traits>
@@ -520,9 +522,10 @@ class Extractor {
         cy_(ny_ - 1),
         cz_(nz_ - 1),
         cw_((cx_ + 63) / 64),
-        key_mask_(key_mask(options.normals)),
         mirrored_(grid.mirrored()),
-        relevant_points_(kRelevantPoints[options.normals == NormalMethod::sobel]) {
+        relevant_points_(kRelevantPoints[options.normals == NormalMethod::sobel]),
+        key_mask_(std::reduce(relevant_points_.begin(), relevant_points_.end(), uint64_t{0},
+                              std::bit_or<>())) {
     for (int cs = 0; cs < 256; ++cs) {
       const DcCase& dc = table_.cases[static_cast<size_t>(cs)];
       bool rare = dc.piece_count != 1;
@@ -1016,21 +1019,6 @@ class Extractor {
   uint64_t neighbourhood(const WordColumns& columns, int b) const {
     return columns.four(b) & key_mask_;
   }
-  // Sobel reads the 3 x 3 x 3 points around each corner: all 64. Central differences read the
-  // corners' six neighbours: the 32 points with at most one coordinate at -1 or 2.
-  static uint64_t key_mask(NormalMethod normals) {
-    if (normals == NormalMethod::sobel) return ~uint64_t{0};
-    uint64_t mask = 0;
-    for (int x = 0; x < 4; ++x) {
-      for (int n = 0; n < 16; ++n) {
-        const int y = n % 4, z = n / 4;
-        const int outer = int(x == 0 || x == 3) + int(y == 0 || y == 3) + int(z == 0 || z == 3);
-        if (outer <= 1) mask |= uint64_t{1} << (n + 16 * x);
-      }
-    }
-    return mask;
-  }
-
   // Pass 3: the sheet vertices.
   void emit_vertices(TriMesh& mesh) {
     std::atomic<int64_t> rows_done{0};
@@ -1310,9 +1298,12 @@ class Extractor {
   Progress& progress_;
   DcNeighbourhoods* const solved_;  // the scene's solved neighbourhoods, or nullptr
   const int64_t nx_, ny_, nz_, cx_, cy_, cz_, cw_;
-  const uint64_t key_mask_;
   const bool mirrored_;  // a mirrored grid reverses every winding
   const std::array<uint64_t, 256>& relevant_points_;  // per case (kRelevantPoints)
+  // The points any cell's gradients read, relevant_points_ over all cases: Sobel's 3 x 3 x 3
+  // around each corner are all 64, central differences' six neighbours of each corner the 32
+  // points with at most one coordinate at -1 or 2.
+  const uint64_t key_mask_;
   std::array<bool, 256> rare_{};
   std::vector<CellWord> words_;           // per row of cells, cw_ words
   std::unique_ptr<uint32_t[]> word_first_;  // per word with cells: the row's sheets before it
