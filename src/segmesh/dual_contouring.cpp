@@ -293,10 +293,14 @@ class KeyTable {
   size_t mask_ = kInitialSlots - 1;
 };
 
-// Whether point (x, y, z) (each 0 .. 3, the cell's corners at 1 and 2) of a neighbourhood key
-// (Extractor::neighbourhood) is inside: bit n + 16 x, n = y + 4 z.
+// The bit of point (x, y, z) (each 0 .. 3, the cell's corners at 1 and 2) in a neighbourhood key
+// (Extractor::neighbourhood): bit n + 16 x, n = y + 4 z.
+constexpr uint64_t key_bit(int x, int y, int z) {
+  return uint64_t{1} << (y + 4 * z + 16 * x);
+}
+// Whether that point is inside.
 inline bool key_point(uint64_t key, int x, int y, int z) {
-  return (key >> (y + 4 * z + 16 * x) & 1) != 0;
+  return (key & key_bit(x, y, z)) != 0;
 }
 
 // The neighbourhood key (Extractor::neighbourhood: bit n + 16 x for point (x, y, z),
@@ -401,7 +405,7 @@ constexpr std::array<std::array<uint64_t, 256>, 2> kRelevantPoints = [] {
       uint64_t& mask = out[size_t(sobel)][size_t(cs)];
       for (int n = 0; n < 8; ++n) {
         const int x = 1 + (n & 1), y = 1 + (n >> 1 & 1), z = 1 + (n >> 2);
-        mask |= uint64_t{1} << (y + 4 * z + 16 * x);
+        mask |= key_bit(x, y, z);
         const int inside = cs >> n & 1;
         if ((cs >> (n ^ 1) & 1) == inside && (cs >> (n ^ 2) & 1) == inside &&
             (cs >> (n ^ 4) & 1) == inside) {
@@ -411,7 +415,7 @@ constexpr std::array<std::array<uint64_t, 256>, 2> kRelevantPoints = [] {
           const int dx = d % 3 - 1, dy = d / 3 % 3 - 1, dz = d / 9 - 1;
           // Central differences read the six face neighbours, Sobel the whole 3 x 3 x 3.
           if (!sobel && dx * dx + dy * dy + dz * dz != 1) continue;
-          mask |= uint64_t{1} << ((y + dy) + 4 * (z + dz) + 16 * (x + dx));
+          mask |= key_bit(x + dx, y + dy, z + dz);
         }
       }
     }
