@@ -1004,10 +1004,7 @@ class Extractor {
 
    private:
     uint16_t column(int64_t x) const {  // 0 outside the grid
-      if (x < 0 || x >= nx_) return 0;
-      unsigned code = 0;
-      for (int n = 0; n < 16; ++n) code |= unsigned(rows_[n][x >> 6] >> (x & 63) & 1) << n;
-      return static_cast<uint16_t>(code);
+      return x < 0 || x >= nx_ ? 0 : column_at(rows_, x);
     }
     static constexpr int kFewColumns = 24;
     const uint64_t* const* rows_;

@@ -83,11 +83,7 @@ void column_codes(const uint64_t* const* rows, int64_t w, uint16_t* codes) {
     codes[8 * m + 7] = static_cast<uint16_t>(_mm_movemask_epi8(v[m]));
   }
 #else
-  for (int b = 0; b < 64; ++b) {
-    unsigned code = 0;
-    for (int n = 0; n < 16; ++n) code |= unsigned(rows[n][w] >> b & 1) << n;
-    codes[b] = static_cast<uint16_t>(code);
-  }
+  for (int b = 0; b < 64; ++b) codes[b] = column_at(rows, 64 * w + b);
 #endif
 }
 

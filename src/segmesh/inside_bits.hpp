@@ -52,6 +52,13 @@ inline uint64_t shifted_word(const uint64_t* row, int64_t w) {
   return (row[w] >> 1) | (row[w + 1] << 63);
 }
 
+// Column x of 16 rows, one bit at a time: bit n is bit x of rows[n].
+inline uint16_t column_at(const uint64_t* const* rows, int64_t x) {
+  unsigned code = 0;
+  for (int n = 0; n < 16; ++n) code |= unsigned(rows[n][x >> 6] >> (x & 63) & 1) << n;
+  return static_cast<uint16_t>(code);
+}
+
 // The 64 columns of word w of 16 rows: bit n of codes[b] is bit 64 w + b of rows[n]. (A bit
 // matrix transpose; with SSE2 a byte transpose and 64 movemasks instead of 1024 bit extractions.)
 void column_codes(const uint64_t* const* rows, int64_t w, uint16_t* codes);

@@ -70,8 +70,10 @@ TEST(InsideBits, ColumnCodesTransposeSixteenRows) {
     column_codes(rows, w, codes);
     ColumnBytes bytes;
     column_bytes(rows, w, bytes);
-    for (int b = 0; b < 64; ++b)
+    for (int b = 0; b < 64; ++b) {
       ASSERT_EQ(column_code(bytes, b), codes[b]) << "word " << w << " bit " << b;
+      ASSERT_EQ(column_at(rows, 64 * w + b), codes[b]) << "word " << w << " bit " << b;
+    }
     for (int b = 0; b < 64; ++b) {
       for (int n = 0; n < 16; ++n) {
         ASSERT_EQ(codes[b] >> n & 1, rows[n][w] >> b & 1)
