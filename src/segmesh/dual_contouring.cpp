@@ -549,13 +549,9 @@ class Extractor {
     prefix_sums();
     const uint64_t sheets = vertex_first_.back();
     const uint64_t vertices = sheets + extra_first_.back();
-    if (vertices > std::numeric_limits<uint32_t>::max()) {
-      throw Error("dual contouring: the surface has more than 4 billion vertices; "
-                  "crop the volume or select fewer labels");
-    }
     resize_zeroed(mesh.positions, vertices);
     if (normals_) resize_zeroed(mesh.normals, vertices);
-    resize_zeroed(mesh.indices, 3 * triangle_first_.back());
+    resize_zeroed(mesh.indices, 3 * size_t{triangle_first_.back()});
     if (o_.tolerance_mm > 0) qefs_.resize(sheets);
     emit_vertices(mesh);
     emit_polygons(mesh);
@@ -638,8 +634,8 @@ class Extractor {
       rare_any |= cw.rare;
       out[w] = cw;
     }
-    vertex_first_[row_index(j, k) + 1] = sheets;
-    triangle_first_[row_index(j, k) + 1] = triangles;
+    vertex_first_[row_index(j, k) + 1] = count32(sheets);
+    triangle_first_[row_index(j, k) + 1] = count32(triangles);
     row_rare_[row_index(j, k)] = rare_any != 0;
     row_short_[row_index(j, k)] = short_row && triangles > 0;
   }
@@ -670,7 +666,7 @@ class Extractor {
     for (int r = 0; r < 4; ++r) {
       const int64_t jr = j + (r & 1), kr = k + (r >> 1);
       q.exists[r] = jr < cy_ && kr < cz_;
-      q.row_first[r] = q.exists[r] ? static_cast<uint32_t>(vertex_first_[row_index(jr, kr)]) : 0;
+      q.row_first[r] = q.exists[r] ? vertex_first_[row_index(jr, kr)] : 0;
     }
     return q;
   }
@@ -1049,7 +1045,7 @@ class Extractor {
         // Keys are made for the cells that may be keyed and will be.
         const bool keys = rows_inside && (table != nullptr || f_ == nullptr);
         const Vec3d row_corner = grid_.to_world({0, double(j), double(k)});
-        uint32_t id = static_cast<uint32_t>(vertex_first_[size_t(r)]);
+        uint32_t id = vertex_first_[size_t(r)];
         const CellWord* row = words(j, k);
         const CornerRows corner_rows = corners(j, k);
         for (int64_t w = 0; w < cw_; ++w) {
@@ -1167,24 +1163,44 @@ class Extractor {
           rare = rare || (jr < cy_ && kr < cz_ && row_rare_[row_index(jr, kr)]);
         }
         if (!rare) continue;
+        uint64_t triangles = triangle_first_[size_t(r) + 1], extra = 0;
         owned_edges<Edges::next_to_rare>(j, k, [&](int axis, const auto& quadrant, bool in) {
           const auto [t, e] = polygon_cost(polygon(axis, quadrant, in));
-          triangle_first_[size_t(r) + 1] += t - 2;  // a polygon has four vertices or more
-          extra_first_[size_t(r) + 1] += e;
+          triangles += t - 2;  // a polygon has four vertices or more
+          extra += e;
         });
+        triangle_first_[size_t(r) + 1] = count32(triangles);
+        extra_first_[size_t(r) + 1] = count32(extra);
       }
     });
   }
 
   // The rows' counts into their first ids: vertex_first_[r] is row r's first sheet vertex,
   // triangle_first_[r] its first triangle, extra_first_[r] its first centroid vertex (after the
-  // sheets); entry rows() is the total.
+  // sheets); entry rows() is the total. Throws where the sheets and centroid vertices, or the
+  // triangles, are more than 32-bit ids can number.
   void prefix_sums() {
+    uint64_t sheets = 0, triangles = 0, extra = 0;
     for (size_t r = 0; r < static_cast<size_t>(rows()); ++r) {
-      vertex_first_[r + 1] += vertex_first_[r];
-      triangle_first_[r + 1] += triangle_first_[r];
-      extra_first_[r + 1] += extra_first_[r];
+      sheets += vertex_first_[r + 1];
+      triangles += triangle_first_[r + 1];
+      extra += extra_first_[r + 1];
+      if (sheets + extra > kMaxCount || triangles > kMaxCount) throw_too_large();
+      vertex_first_[r + 1] = static_cast<uint32_t>(sheets);
+      triangle_first_[r + 1] = static_cast<uint32_t>(triangles);
+      extra_first_[r + 1] = static_cast<uint32_t>(extra);
     }
+  }
+  static constexpr uint64_t kMaxCount = std::numeric_limits<uint32_t>::max();
+  [[noreturn]] static void throw_too_large() {
+    throw Error(
+        "dual contouring: the surface has more than 4 billion vertices or triangles; "
+        "crop the volume or select fewer labels");
+  }
+  // One row's count, as the row arrays keep it.
+  static uint32_t count32(uint64_t n) {
+    if (n > kMaxCount) throw_too_large();
+    return static_cast<uint32_t>(n);
   }
 
   // Pass 4: the polygons, split into triangles.
@@ -1201,7 +1217,7 @@ class Extractor {
       size_t pending = 0;
       for (int64_t r = range.begin(); r < range.end(); ++r) {
         if (triangle_first_[size_t(r) + 1] == triangle_first_[size_t(r)]) continue;
-        uint32_t* out = mesh.indices.data() + 3 * triangle_first_[size_t(r)];
+        uint32_t* out = mesh.indices.data() + 3 * size_t{triangle_first_[size_t(r)]};
         uint32_t extra = static_cast<uint32_t>(sheets + extra_first_[size_t(r)]);
         // A quad waiting for its diagonal; split_quads writes its six indices. Always inlined: the
         // pass's hot path (the compiler once stopped inlining it, and the phantom lost 7 %).
@@ -1275,7 +1291,7 @@ class Extractor {
     std::vector<SurfaceCell> out;
     for (int64_t r = 0; r < rows(); ++r) {
       const int64_t j = r % cy_, k = r / cy_;
-      uint32_t id = static_cast<uint32_t>(vertex_first_[size_t(r)]);
+      uint32_t id = vertex_first_[size_t(r)];
       const CellWord* row = words(j, k);
       for (int64_t w = 0; w < cw_; ++w) {
         for (uint64_t m = row[w].cells; m != 0; m &= m - 1) {
@@ -1310,9 +1326,10 @@ class Extractor {
   std::unique_ptr<uint32_t[]> word_first_;  // per word with cells: the row's sheets before it
   std::vector<uint8_t> row_rare_;         // per row of cells: any rare cell
   std::vector<uint8_t> row_short_;        // per row of cells: a cut edge without its four cells
-  std::vector<uint64_t> vertex_first_;    // per row: its first sheet vertex
-  std::vector<uint64_t> triangle_first_;  // per row: its first triangle
-  std::vector<uint64_t> extra_first_;     // per row: its first centroid vertex (after the sheets)
+  // 32-bit like the ids they count to (prefix_sums throws past them): half the bytes per row.
+  std::vector<uint32_t> vertex_first_;    // per row: its first sheet vertex
+  std::vector<uint32_t> triangle_first_;  // per row: its first triangle
+  std::vector<uint32_t> extra_first_;     // per row: its first centroid vertex (after the sheets)
   std::vector<Qef> qefs_;  // per sheet vertex, kept only for the simplification
 };
 

@@ -32,7 +32,7 @@
 // then a few word operations per 64 cells per pass plus O(non-trivial cells), and one QEF solve per
 // sheet (on a 0/1 field, per distinct neighbourhood, or per mirror class of the points a single
 // sheet depends on); memory one bit per grid point, 20 bytes per word of cells (its cells, rare
-// cells and first vertex), 26 per row of cells, the solved neighbourhoods, and the output.
+// cells and first vertex), 14 per row of cells, the solved neighbourhoods, and the output.
 #pragma once
 
 #include <cstdint>
