@@ -284,13 +284,22 @@ class KeyTable {
     keys_.swap(keys);
     index_.swap(index);
     mask_ = mask;
+    values_.reserve(keys_.size() / 2);
   }
 
+  // values_ has room for as many entries as the slots take (half of them), so it never moves
+  // before the table grows, and its pages are first touched as entries come (growing it entry by
+  // entry copied it a dozen times, each time onto fresh pages).
   static constexpr size_t kInitialSlots = 16384;
   std::vector<uint64_t> keys_ = std::vector<uint64_t>(kInitialSlots, 0);  // 0: empty slot
   std::vector<uint32_t> index_ = std::vector<uint32_t>(kInitialSlots);    // into values_
-  std::vector<Value> values_;
+  std::vector<Value> values_ = reserved(kInitialSlots / 2);
   size_t mask_ = kInitialSlots - 1;
+  static std::vector<Value> reserved(size_t n) {
+    std::vector<Value> v;
+    v.reserve(n);
+    return v;
+  }
 };
 
 // The bit of point (x, y, z) (each 0 .. 3, the cell's corners at 1 and 2) in a neighbourhood key
