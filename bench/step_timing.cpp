@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
     dc = std::min(dc, seconds_since(t));
   }
   std::printf(
-      "{\"threads\": %d, \"read_s\": %.4f, \"components_s\": %.4f, \"mc_s\": %.4f, \"dc_s\": %.4f, "
-      "\"hc2_s\": %.4f, \"default_smooth_s\": %.4f, \"triangles\": %zu}\n",
+      "{\"threads\": %d, \"read_s\": %.6f, \"components_s\": %.6f, \"mc_s\": %.6f, \"dc_s\": %.6f, "
+      "\"hc2_s\": %.6f, \"default_smooth_s\": %.6f, \"triangles\": %zu}\n",
       threads, read, components, mc, dc, hc, smooth, triangles);
 }
