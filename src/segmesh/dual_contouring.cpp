@@ -1044,6 +1044,7 @@ class Extractor {
       throw_if_cancelled(progress_);
       SolvedNeighbourhoods* table = solved ? &solved->tables->threads.local() : nullptr;
       for (int64_t r = range.begin(); r < range.end(); ++r) {
+        if (vertex_first_[size_t(r) + 1] == vertex_first_[size_t(r)]) continue;  // no cells
         const int64_t j = r % cy_, k = r / cy_;
         const bool rows_inside = j >= 1 && k >= 1 && j + 2 < ny_ && k + 2 < nz_;
         const uint64_t* around[16];
