@@ -75,7 +75,7 @@ for r in range(1, rounds + 1):
         cols.setdefault(k, []).append(v)
 m = {k: statistics.median(v) for k, v in cols.items()}
 print(f"| {name} | {t} | {m['extract']:.4f} | {m['mc']:.4f} | {m['vtk/mc']:.2f}x | {m['comp']:.4f} | "
-      f"{m['vtk/(comp+mc)']:.2f}x | {m['dc']:.4f} | {m['dc/mc']:.1f} | {m['hc']:.4f} | "
+      f"{m['vtk/(comp+mc)']:.2f}x | {m['dc']:.4f} | {m['dc/mc']:.2f} | {m['hc']:.4f} | "
       f"{m['sinc']:.3f} | {m['sinc/hc']:.1f}x | {m['smooth']:.3f} | {m['sinc/smooth']:.1f}x | "
       f"{m['normals']:.3f} | {m['slicer/hc']:.1f}x |")
 PY
