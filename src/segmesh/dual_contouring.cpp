@@ -1195,23 +1195,15 @@ class Extractor {
       sheets += vertex_first_[r + 1];
       triangles += triangle_first_[r + 1];
       extra += extra_first_[r + 1];
-      if (sheets + extra > kMaxCount || triangles > kMaxCount) throw_too_large();
+      mesh_id_count(sheets + extra, kWho);
       vertex_first_[r + 1] = static_cast<uint32_t>(sheets);
-      triangle_first_[r + 1] = static_cast<uint32_t>(triangles);
+      triangle_first_[r + 1] = count32(triangles);
       extra_first_[r + 1] = static_cast<uint32_t>(extra);
     }
   }
-  static constexpr uint64_t kMaxCount = std::numeric_limits<uint32_t>::max();
-  [[noreturn]] static void throw_too_large() {
-    throw Error(
-        "dual contouring: the surface has more than 4 billion vertices or triangles; "
-        "crop the volume or select fewer labels");
-  }
+  static constexpr const char* kWho = "dual contouring";
   // One row's count, as the row arrays keep it.
-  static uint32_t count32(uint64_t n) {
-    if (n > kMaxCount) throw_too_large();
-    return static_cast<uint32_t>(n);
-  }
+  static uint32_t count32(uint64_t n) { return mesh_id_count(n, kWho); }
 
   // Pass 4: the polygons, split into triangles.
   void emit_polygons(TriMesh& mesh) {

@@ -34,10 +34,11 @@ constexpr std::array<uint16_t, 256> kCutEdges = [] {
 }();
 
 // What one row contributes: its cut edges per axis (starting at its grid points) and the triangles
-// of the cells between it and the rows at y + 1, z + 1.
+// of the cells between it and the rows at y + 1, z + 1. 32-bit, as the ids they count
+// (mesh_id_count): 16 bytes a row.
 struct RowCount {
-  int64_t edges[3] = {0, 0, 0};
-  int64_t triangles = 0;
+  uint32_t edges[3] = {0, 0, 0};
+  uint32_t triangles = 0;
 };
 
 // Marching Cubes over any scan that answers per row (row_trim.hpp's TrimmedScan over a field,
@@ -64,14 +65,10 @@ class Extractor {
     TriMesh mesh;
     if (nx_ < 2 || ny_ < 2 || nz_ < 2) return mesh;
     count();
-    const uint64_t vertices = vertex_first_.back();
-    if (vertices > std::numeric_limits<uint32_t>::max()) {
-      throw Error("marching cubes: the surface has more than 4 billion vertices; "
-                  "crop the volume or select fewer labels");
-    }
+    const size_t vertices = vertex_first_.back();
     resize_zeroed(mesh.positions, vertices);
     if (normals) resize_zeroed(mesh.normals, vertices);
-    resize_zeroed(mesh.indices, 3 * triangle_first_.back());
+    resize_zeroed(mesh.indices, 3 * size_t{triangle_first_.back()});
     fill(mesh);
     return mesh;
   }
@@ -87,33 +84,38 @@ class Extractor {
       for (int64_t r = range.begin(); r < range.end(); ++r) {
         const int64_t j = r % ny_, k = r / ny_;
         RowCount& c = counts_[static_cast<size_t>(r)];
-        c.edges[0] = scan_.row_edge_count(0, j, k);
-        if (j + 1 < ny_) c.edges[1] = scan_.row_edge_count(1, j, k);
-        if (k + 1 < nz_) c.edges[2] = scan_.row_edge_count(2, j, k);
+        auto count32 = [](int64_t n) { return mesh_id_count(uint64_t(n), "marching cubes"); };
+        c.edges[0] = count32(scan_.row_edge_count(0, j, k));
+        if (j + 1 < ny_) c.edges[1] = count32(scan_.row_edge_count(1, j, k));
+        if (k + 1 < nz_) c.edges[2] = count32(scan_.row_edge_count(2, j, k));
         if (j + 1 < ny_ && k + 1 < nz_) {
-          c.triangles = scan_.cell_sum(j, k, [&](int cs) { return int64_t{table_.triangle_count(cs)}; });
+          c.triangles = count32(
+              scan_.cell_sum(j, k, [&](int cs) { return int64_t{table_.triangle_count(cs)}; }));
         }
       }
     });
     vertex_first_.assign(counts_.size() + 1, 0);
     triangle_first_.assign(counts_.size() + 1, 0);
+    uint64_t vertices = 0, triangles = 0;
     for (size_t r = 0; r < counts_.size(); ++r) {
       const RowCount& c = counts_[r];
-      vertex_first_[r + 1] = vertex_first_[r] + uint64_t(c.edges[0] + c.edges[1] + c.edges[2]);
-      triangle_first_[r + 1] = triangle_first_[r] + uint64_t(c.triangles);
+      vertices += uint64_t{c.edges[0]} + c.edges[1] + c.edges[2];
+      triangles += c.triangles;
+      vertex_first_[r + 1] = mesh_id_count(vertices, "marching cubes");
+      triangle_first_[r + 1] = mesh_id_count(triangles, "marching cubes");
     }
   }
 
   // The first id of row (j, k)'s cut edges along `axis`.
   uint32_t first_id(int64_t j, int64_t k, int axis) const {
     const size_t r = row_index(j, k);
-    uint64_t id = vertex_first_[r];
-    for (int a = 0; a < axis; ++a) id += uint64_t(counts_[r].edges[a]);
-    return static_cast<uint32_t>(id);
+    uint32_t id = vertex_first_[r];
+    for (int a = 0; a < axis; ++a) id += counts_[r].edges[a];
+    return id;
   }
 
   void emit_cells(int64_t j, int64_t k, TriMesh& mesh) const {
-    uint32_t* out = mesh.indices.data() + 3 * triangle_first_[row_index(j, k)];
+    uint32_t* out = mesh.indices.data() + 3 * size_t{triangle_first_[row_index(j, k)]};
     // Cursors: the id of the next cut edge not yet passed, per (row, axis) the cells touch.
     // x-edges of the rows (j + y, k + z) for cell edges y + 2z; y-edges of rows (j, k + z) and
     // z-edges of rows (j + y, k), each at x (the cell's left) and x + 1 (its right).
@@ -170,8 +172,8 @@ class Extractor {
   const bool flip_;  // a mirrored grid reverses the winding of index space
   const int64_t nx_, ny_, nz_;
   std::vector<RowCount> counts_;
-  std::vector<uint64_t> vertex_first_;    // first vertex id of each row's cut edges
-  std::vector<uint64_t> triangle_first_;  // first triangle of each row's cells
+  std::vector<uint32_t> vertex_first_;    // first vertex id of each row's cut edges
+  std::vector<uint32_t> triangle_first_;  // first triangle of each row's cells
 };
 
 // Vertices of a field: interpolated along the edge, normals from the gradient when asked.

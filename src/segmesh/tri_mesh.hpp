@@ -9,8 +9,11 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
+#include <string>
 #include <vector>
 
+#include "segmesh/error.hpp"
 #include "segmesh/vec3.hpp"
 
 namespace segmesh {
@@ -27,5 +30,19 @@ struct TriMesh {
   size_t triangle_count() const { return indices.size() / 3; }
   bool empty() const { return indices.empty(); }
 };
+
+// Vertex ids are 32-bit, and so are the extractors' counts and first ids per row of the grid (half
+// the bytes of 64-bit ones, whose pages each part touches afresh). `n`, a count added up in 64
+// bits, as such an id; throws segmesh::Error, naming the extractor `who`, past what 32 bits hold.
+[[noreturn, gnu::cold, gnu::noinline]] inline void throw_too_many_ids(const char* who) {
+  throw Error(std::string(who) +
+              ": the surface has more than 4 billion vertices or triangles; crop the volume or "
+              "select fewer labels");
+}
+inline uint32_t mesh_id_count(uint64_t n, const char* who) {
+  if (n > std::numeric_limits<uint32_t>::max()) [[unlikely]]
+    throw_too_many_ids(who);
+  return static_cast<uint32_t>(n);
+}
 
 }  // namespace segmesh

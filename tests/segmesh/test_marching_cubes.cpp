@@ -247,3 +247,18 @@ TEST(MarchingCubes, WithoutNormalsTheSameSurfaceAndNoNormals) {
 
 }  // namespace
 }  // namespace segmesh
+
+// The extractors keep per-row counts and first ids in 32 bits, like the vertex ids; a surface
+// past that is refused with a message that names the extractor and says what to do.
+TEST(MeshIdCount, KeepsCountsUpTo32BitsAndRefusesMoreNamingTheExtractor) {
+  EXPECT_EQ(segmesh::mesh_id_count(0, "marching cubes"), 0u);
+  EXPECT_EQ(segmesh::mesh_id_count(0xffffffffull, "marching cubes"), 0xffffffffu);
+  try {
+    segmesh::mesh_id_count(0x100000000ull, "dual contouring");
+    FAIL() << "no error for 2^32";
+  } catch (const segmesh::Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "dual contouring: the surface has more than 4 billion vertices or triangles; crop "
+              "the volume or select fewer labels");
+  }
+}
