@@ -20,7 +20,7 @@
 #include <filesystem>
 #include <string>
 
-#include "segmesh/mesh_adjacency.hpp"
+#include "segmesh/detail/mesh_adjacency.hpp"
 #include "segmesh/mesh_measures.hpp"
 #include "segmesh/phantom.hpp"
 #include "segmesh/pipeline.hpp"

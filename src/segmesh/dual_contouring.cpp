@@ -24,14 +24,14 @@
 #endif
 
 #include "segmesh/component_field.hpp"
-#include "segmesh/dual_contouring_simplify.hpp"
-#include "segmesh/dual_contouring_table.hpp"
-#include "segmesh/edge_intersection.hpp"
+#include "segmesh/detail/dual_contouring_simplify.hpp"
+#include "segmesh/detail/dual_contouring_table.hpp"
+#include "segmesh/detail/edge_intersection.hpp"
 #include "segmesh/error.hpp"
 #include "segmesh/first_touch.hpp"
-#include "segmesh/inside_bits.hpp"
-#include "segmesh/marching_cubes_table.hpp"
-#include "segmesh/qef.hpp"
+#include "segmesh/detail/inside_bits.hpp"
+#include "segmesh/detail/marching_cubes_table.hpp"
+#include "segmesh/detail/qef.hpp"
 #include "segmesh/quality.hpp"
 
 namespace segmesh {

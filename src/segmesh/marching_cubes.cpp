@@ -11,12 +11,12 @@
 #include <vector>
 
 #include "segmesh/component_field.hpp"
-#include "segmesh/edge_intersection.hpp"
+#include "segmesh/detail/edge_intersection.hpp"
 #include "segmesh/error.hpp"
 #include "segmesh/first_touch.hpp"
-#include "segmesh/marching_cubes_table.hpp"
-#include "segmesh/row_trim.hpp"
-#include "segmesh/run_scan.hpp"
+#include "segmesh/detail/marching_cubes_table.hpp"
+#include "segmesh/detail/row_trim.hpp"
+#include "segmesh/detail/run_scan.hpp"
 
 namespace segmesh {
 

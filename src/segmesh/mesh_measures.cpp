@@ -7,7 +7,7 @@
 #include <numeric>
 #include <vector>
 
-#include "segmesh/mesh_adjacency.hpp"
+#include "segmesh/detail/mesh_adjacency.hpp"
 
 namespace segmesh {
 

@@ -17,7 +17,7 @@
 #include <utility>
 
 #include "segmesh/first_touch.hpp"
-#include "segmesh/triangle_scatter.hpp"
+#include "segmesh/detail/triangle_scatter.hpp"
 #include "segmesh/vec3.hpp"
 
 namespace segmesh {

@@ -12,9 +12,9 @@
 #include <random>
 #include <string>
 
-#include "segmesh/dual_contouring_table.hpp"
+#include "segmesh/detail/dual_contouring_table.hpp"
 #include "segmesh/marching_cubes.hpp"
-#include "segmesh/marching_cubes_table.hpp"
+#include "segmesh/detail/marching_cubes_table.hpp"
 #include "segmesh/mesh_distance.hpp"
 #include "segmesh/mesh_measures.hpp"
 #include "segmesh/quality.hpp"

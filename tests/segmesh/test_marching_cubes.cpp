@@ -10,7 +10,7 @@
 #include <random>
 #include <set>
 
-#include "segmesh/marching_cubes_table.hpp"
+#include "segmesh/detail/marching_cubes_table.hpp"
 #include "segmesh/mesh_measures.hpp"
 #include "support/reference_components.hpp"
 #include "support/test_fields.hpp"

@@ -13,7 +13,7 @@
 #include "segmesh/components.hpp"
 #include "segmesh/marching_cubes.hpp"
 #include "segmesh/mesh_measures.hpp"
-#include "segmesh/run_scan.hpp"
+#include "segmesh/detail/run_scan.hpp"
 #include "support/test_fields.hpp"
 
 namespace segmesh {

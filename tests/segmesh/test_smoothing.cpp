@@ -4,7 +4,7 @@
 // to the volume and the shape of a voxelised sphere, and the guarantees: connectivity untouched,
 // unit outward normals, identical output for any thread count, odd input handled.
 #include "segmesh/smoothing.hpp"
-#include "segmesh/triangle_scatter.hpp"
+#include "segmesh/detail/triangle_scatter.hpp"
 
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>

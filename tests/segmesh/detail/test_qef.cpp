@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "segmesh/qef.hpp"
+#include "segmesh/detail/qef.hpp"
 
 namespace segmesh {
 namespace {

@@ -1,6 +1,6 @@
 // Inside bits: a component's bits from its runs equal the bits of its mask, a field's bits follow
 // the inside test, and the bit readers cross word boundaries.
-#include "segmesh/inside_bits.hpp"
+#include "segmesh/detail/inside_bits.hpp"
 
 #include <gtest/gtest.h>
 

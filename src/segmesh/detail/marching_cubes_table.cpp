@@ -1,4 +1,4 @@
-#include "segmesh/marching_cubes_table.hpp"
+#include "segmesh/detail/marching_cubes_table.hpp"
 
 #include <algorithm>
 #include <bit>

@@ -1,10 +1,10 @@
-#include "segmesh/dual_contouring_simplify.hpp"
+#include "segmesh/detail/dual_contouring_simplify.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "segmesh/dual_contouring_table.hpp"
-#include "segmesh/marching_cubes_table.hpp"
+#include "segmesh/detail/dual_contouring_table.hpp"
+#include "segmesh/detail/marching_cubes_table.hpp"
 
 namespace segmesh {
 

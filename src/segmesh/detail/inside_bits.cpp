@@ -1,4 +1,4 @@
-#include "segmesh/inside_bits.hpp"
+#include "segmesh/detail/inside_bits.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -6,7 +6,7 @@
 #include <algorithm>
 
 #include "segmesh/first_touch.hpp"
-#include "segmesh/row_trim.hpp"
+#include "segmesh/detail/row_trim.hpp"
 
 namespace segmesh {
 

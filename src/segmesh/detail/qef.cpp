@@ -1,4 +1,4 @@
-#include "segmesh/qef.hpp"
+#include "segmesh/detail/qef.hpp"
 
 #include <algorithm>
 #include <cmath>

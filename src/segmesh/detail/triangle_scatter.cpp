@@ -1,4 +1,4 @@
-#include "segmesh/triangle_scatter.hpp"
+#include "segmesh/detail/triangle_scatter.hpp"
 
 #include <algorithm>
 #include <limits>

@@ -21,7 +21,7 @@
 
 #include "segmesh/dual_contouring.hpp"
 #include "segmesh/grid.hpp"
-#include "segmesh/qef.hpp"
+#include "segmesh/detail/qef.hpp"
 #include "segmesh/tri_mesh.hpp"
 
 namespace segmesh {

@@ -1,4 +1,4 @@
-#include "segmesh/run_scan.hpp"
+#include "segmesh/detail/run_scan.hpp"
 
 #include <limits>
 

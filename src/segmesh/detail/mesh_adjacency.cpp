@@ -1,4 +1,4 @@
-#include "segmesh/mesh_adjacency.hpp"
+#include "segmesh/detail/mesh_adjacency.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -11,7 +11,7 @@
 #include <tuple>
 
 #include "segmesh/first_touch.hpp"
-#include "segmesh/triangle_scatter.hpp"
+#include "segmesh/detail/triangle_scatter.hpp"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>

@@ -1,4 +1,4 @@
-#include "segmesh/dual_contouring_table.hpp"
+#include "segmesh/detail/dual_contouring_table.hpp"
 
 #include <algorithm>
 #include <limits>
@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "segmesh/marching_cubes_table.hpp"
+#include "segmesh/detail/marching_cubes_table.hpp"
 #include "segmesh/vec3.hpp"
 
 namespace segmesh {

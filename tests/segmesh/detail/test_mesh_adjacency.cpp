@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "segmesh/marching_cubes.hpp"
-#include "segmesh/mesh_adjacency.hpp"
+#include "segmesh/detail/mesh_adjacency.hpp"
 #include "segmesh/mesh_measures.hpp"
 #include "support/test_fields.hpp"
 

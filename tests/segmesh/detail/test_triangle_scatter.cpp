@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "segmesh/marching_cubes.hpp"
-#include "segmesh/triangle_scatter.hpp"
+#include "segmesh/detail/triangle_scatter.hpp"
 #include "support/test_fields.hpp"
 
 namespace segmesh {
