@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
     const double voxel = std::min({s[0], s[1], s[2]});
     for (Method method : {Method::marching_cubes, Method::dual_contouring}) {
       for (double f : {0.5, 1.0, 2.0}) {
-        const Row r = run(image, {.method = method, .presmooth_sigma_mm = f * voxel});
+        const Row r = run(image, {.method = method, .volume_sigma_mm = f * voxel});
         std::printf("| %s | %s | %.2f mm (%.1f voxel) | %lld | %.3f | %+.2f %% | %s |\n",
                     base(argv[a]).c_str(), std::string(method_name(method)).c_str(), f * voxel, f,
                     (long long)r.triangles, r.rho_mean,

@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
   for (int n : {10, 20, 40, 100}) add(SmoothMethod::taubin, n);
   for (double pb : {0.1, 0.01, 0.001}) add(SmoothMethod::sinc, 20, pb);
   add(SmoothMethod::sinc, 40, 0.01);
-  settings.push_back(default_smoothing());  // last row: segmesh's default
+  settings.push_back(resolve_meshing_options({}).smooth);  // last row: segmesh's default
   std::printf("| input | smoothing | volume change | deviation mean / p95 (mm) | normal angle (deg) | rho mean |\n");
   std::printf("| --- | --- | ---: | --- | ---: | ---: |\n");
   for (int a = 1; a < argc; ++a) {

@@ -75,8 +75,9 @@ OutputTarget resolve_output(const MeshArgs& args) {
   return out;
 }
 
-nlohmann::json options_json(const MeshArgs& a, const OutputTarget& out) {
-  nlohmann::json j = meshing_json(a.meshing);
+nlohmann::json options_json(const MeshArgs& a, const MeshingOptions& resolved,
+                            const OutputTarget& out) {
+  nlohmann::json j = meshing_json(resolved, a.meshing.label_names);
   j["format"] = extension(out.format);
   j["output"] = out.path.string();
   j["per_part_files"] = out.folder;
@@ -143,7 +144,7 @@ int run_mesh(const MeshArgs& args) {
   t.total = ms_since(start);
   measuring.wait();
   if (!args.report.empty()) {
-    const auto report = mesh_report(image, options_json(args, target), t, pipeline, scene,
+    const auto report = mesh_report(image, options_json(args, options, target), t, pipeline, scene,
                                     options.smooth.method == SmoothMethod::none ? nullptr : &unsmoothed,
                                     measures, outputs);
     AtomicFile file(args.report);

@@ -99,7 +99,7 @@ std::string smoothing_label(const SmoothOptions& o, bool with_iterations = true)
   if (o.method == SmoothMethod::none) return s;
   if (o.preserve_volume) s = "segmesh default: " + s;
   if (with_iterations) {
-    s += " x" + std::to_string(o.iterations ? o.iterations : default_smooth_iterations(o.method));
+    s += " x" + std::to_string(o.iterations);
   }
   if (o.method == SmoothMethod::sinc) {
     char buf[64];
@@ -170,6 +170,7 @@ int run_study(const StudyArgs& args) {
   base.iso = args.iso;
   base.smooth = {};  // extraction first; each smoothing is studied on its own
   if (!args.label_names.empty()) base.label_names = read_label_names(args.label_names);
+  base = resolve_meshing_options(base);  // a bad request stops before the volume is read
   const auto threads = limit_threads(args.threads);
   const Image image = read_input(args.input, args.read);
   ProgressBar progress(!args.quiet);
@@ -206,7 +207,7 @@ int run_study(const StudyArgs& args) {
   for (int n : {2, 4, 5}) add(SmoothMethod::hc, n);
   for (int n : {10, 20, 40}) add(SmoothMethod::taubin, n);
   add(SmoothMethod::sinc, 20);  // 3D Slicer's default: pass band 0.01, 20 iterations
-  const SmoothOptions ours = default_smoothing();
+  const SmoothOptions ours = resolve_meshing_options({}).smooth;  // segmesh mesh's default
   if (ours.method != SmoothMethod::none) settings.push_back(ours);
 
   std::vector<std::vector<SmoothRow>> rows(extractions.size());

@@ -1,48 +1,36 @@
-// The meshing options `segmesh mesh` and `segmesh render` share: one registration of the command
-// line options and one conversion to MeshingOptions, so both commands mesh a volume the same way.
+// The meshing options `segmesh mesh` and `segmesh render` share, registered from the options
+// layer's table (meshing_option_specs in segmesh/meshing_options.hpp): the names, help texts,
+// defaults, parsing and checks are the library's, so both commands, the viewer, the study and the
+// report state every option the same way. --label-names (a file) is the command line's own.
 #pragma once
 
 #include <CLI/CLI.hpp>
-#include <cstdint>
+#include <map>
 #include <nlohmann/json.hpp>
-#include <optional>
 #include <string>
 #include <vector>
 
-#include "segmesh/pipeline.hpp"
+#include "segmesh/meshing_options.hpp"
 
 namespace segmesh::cli {
 
 struct MeshingArgs {
-  std::string method = "mc";
-  std::vector<int32_t> labels;
-  std::optional<double> iso;
-  int connectivity = 26;
-  int64_t min_voxels = 0;
-  std::string normals = "central";
+  // What was given on the command line, by option name: the text (a list's items joined by
+  // commas) or, for the flags, whether --no-<name> was given.
+  std::map<std::string, std::vector<std::string>, std::less<>> values;
+  std::map<std::string, bool, std::less<>> negated;
   std::string label_names;
-  double presmooth = 0;
-  std::string smooth = std::string(smooth_method_name(default_smoothing().method));
-  // The default smoothing's parameters, with iterations 0: each method's own count unless
-  // --iterations is given (the default sinc's 20 included).
-  SmoothOptions smooth_options = [] {
-    SmoothOptions o = default_smoothing();
-    o.iterations = 0;
-    return o;
-  }();
-  double dc_svd_eps = MeshingOptions{}.dc_svd_eps;
-  double dc_tolerance = 0;
 };
 
-// Adds --method, --labels, --iso, --connectivity, --min-voxels, --normals, --presmooth,
-// --dc-svd-eps, --dc-tolerance, --smooth and its parameters, and --label-names to `cmd`.
+// Adds every option of meshing_option_specs() and --label-names to `cmd`.
 void add_meshing_options(CLI::App* cmd, MeshingArgs& args);
 
-// Checks the arguments and converts them; throws segmesh::Error naming the option at fault.
-// Reads the --label-names file. Leaves color_by_quality false.
+// The options given, resolved (resolve_meshing_options); throws segmesh::Error naming the option
+// at fault. Reads the --label-names file. Leaves color_by_quality false.
 MeshingOptions meshing_options(const MeshingArgs& args);
 
-// The arguments as the JSON report records them (method, labels, ..., smooth, dc_*).
-nlohmann::json meshing_json(const MeshingArgs& args);
+// Resolved options as the JSON report records them (method, labels, ..., smooth, dc_*);
+// `label_names` is the file they came from ("" for none).
+nlohmann::json meshing_json(const MeshingOptions& resolved, const std::string& label_names);
 
 }  // namespace segmesh::cli

@@ -12,13 +12,10 @@
 #include <type_traits>
 #include <variant>
 
-#include "segmesh/component_field.hpp"
 #include "segmesh/components.hpp"
 #include "segmesh/error.hpp"
 #include "segmesh/label_stats.hpp"
-#include "segmesh/dual_contouring.hpp"
-#include "segmesh/gaussian_filter.hpp"
-#include "segmesh/marching_cubes.hpp"
+#include "segmesh/extract_part.hpp"
 #include "segmesh/quality.hpp"
 
 namespace segmesh {
@@ -46,21 +43,6 @@ std::string label_list(const std::vector<LabelCount>& counts, size_t max_shown =
     s += (shown++ ? ", " : "") + std::to_string(c.label);
   }
   return s.empty() ? "none" : s;
-}
-
-void validate(const MeshingOptions& o) {
-  if (!(o.presmooth_sigma_mm >= 0) || !std::isfinite(o.presmooth_sigma_mm)) {
-    throw Error("--presmooth must be a non-negative number of millimetres");
-  }
-  if (!(o.dc_svd_eps >= 0 && o.dc_svd_eps <= 1)) throw Error("--dc-svd-eps must be between 0 and 1");
-  if (!(o.dc_tolerance_mm >= 0) || !std::isfinite(o.dc_tolerance_mm)) {
-    throw Error("--dc-tolerance must be a non-negative number of millimetres");
-  }
-  if (o.connectivity != 6 && o.connectivity != 18 && o.connectivity != 26) {
-    throw Error("--connectivity must be 6, 18 or 26 (got " + std::to_string(o.connectivity) + ")");
-  }
-  if (o.min_voxels < 0) throw Error("--min-voxels must not be negative");
-  if (o.iso && !std::isfinite(*o.iso)) throw Error("--iso must be a finite number");
 }
 
 // The components to mesh, checked against what the volume holds.
@@ -106,40 +88,6 @@ Components iso_components(const Image& image, const Volume<T>& volume, double is
   return components;
 }
 
-DcOptions dc_options(const MeshingOptions& o, double iso) {
-  return {.iso = iso,
-          .connectivity = o.connectivity,
-          .normals = o.normals,
-          .svd_eps = o.dc_svd_eps,
-          .tolerance_mm = o.dc_tolerance_mm,
-          // Smoothing recomputes the normals from the triangles.
-          .vertex_normals = o.smooth.method == SmoothMethod::none};
-}
-
-// Extracts one part from the field `make_field(margin)` cuts out: pre-smoothed when asked (with a
-// margin wide enough that the kernel never reaches the crop's border), then MC or DC. A part
-// thinner than the kernel can vanish when smoothed; it is then meshed unsmoothed (and counted),
-// because a part must never silently disappear.
-template <class MakeField>
-TriMesh extract_part(const Grid& grid, const MeshingOptions& o, double iso, float background,
-                     MakeField&& make_field, std::atomic<int64_t>& fallbacks) {
-  auto extract = [&](const auto& field) {
-    if (o.method == Method::dual_contouring) return dual_contouring(field, dc_options(o, iso));
-    // Smoothing recomputes the normals from the triangles: the gradient's would be thrown away.
-    return marching_cubes(field, {.iso = iso,
-                                  .connectivity = o.connectivity,
-                                  .normals = o.normals,
-                                  .vertex_normals = o.smooth.method == SmoothMethod::none});
-  };
-  if (o.presmooth_sigma_mm > 0) {
-    const auto field = make_field(gaussian_margin(grid, o.presmooth_sigma_mm));
-    TriMesh mesh = extract(gaussian_filter(field, o.presmooth_sigma_mm, background));
-    if (!mesh.empty()) return mesh;
-    ++fallbacks;
-  }
-  return extract(make_field(kDefaultFieldMargin));
-}
-
 Part describe_part(const Image& image, const MeshingOptions& o, const Component& c, bool grey) {
   Part part;
   part.label = c.label;
@@ -174,36 +122,8 @@ Part describe_part(const Image& image, const MeshingOptions& o, const Component&
 
 }  // namespace
 
-std::string_view method_name(Method method) {
-  return method == Method::dual_contouring ? "dc" : "mc";
-}
-
-std::optional<Method> parse_method(std::string_view name) {
-  if (name == "mc") return Method::marching_cubes;
-  if (name == "dc") return Method::dual_contouring;
-  return std::nullopt;
-}
-
-std::string_view normals_name(NormalMethod normals) {
-  return normals == NormalMethod::sobel ? "sobel" : "central";
-}
-
-std::optional<NormalMethod> parse_normals(std::string_view name) {
-  if (name == "central") return NormalMethod::central;
-  if (name == "sobel") return NormalMethod::sobel;
-  return std::nullopt;
-}
-
 std::string part_name(std::string_view base, int component) {
   return std::string(base) + "_" + std::to_string(component);
-}
-
-// Windowed sinc with unit gain, pass band 0.01, 20 iterations: on voxelised spheres of 8-40 mm it
-// comes closer to the true sphere than 3D Slicer's default (the same filter without unit gain)
-// and changes the volume by about 0.1 %; on the phantom and the real data it removes the staircase
-// (docs/STUDY.md has the measurements).
-SmoothOptions default_smoothing() {
-  return {.method = SmoothMethod::sinc, .iterations = 20, .pass_band = 0.01, .sinc_unit_gain = true};
 }
 
 void smooth_scene(Scene& scene, const SmoothOptions& options, Progress& progress) {
@@ -223,15 +143,12 @@ void color_scene_by_quality(Scene& scene) {
   });
 }
 
-PipelineParts find_parts(const Image& image, const MeshingOptions& o, Progress& progress) {
-  validate(o);
+PipelineParts find_parts(const Image& image, const MeshingOptions& options, Progress& progress) {
+  const MeshingOptions o = resolve_meshing_options(options);
   const bool grey = o.iso.has_value();
   if (!grey && !image.is_integer()) {
     throw Error(image.path + ": " + image.voxel_type +
                 " values are not labels; give --iso VALUE to extract an iso-surface");
-  }
-  if (grey && !o.labels.empty()) {
-    throw Error("--labels and --iso exclude each other: --iso meshes a grey-value volume");
   }
   progress.step("components");
   PipelineParts parts;
@@ -255,52 +172,32 @@ PipelineParts find_parts(const Image& image, const MeshingOptions& o, Progress& 
   return parts;
 }
 
-Scene extract_parts(const Image& image, const PipelineParts& parts, const MeshingOptions& o,
+Scene extract_parts(const Image& image, const PipelineParts& parts, const MeshingOptions& options,
                     Progress& progress, int64_t* presmooth_fallbacks) {
-  validate(o);
+  const MeshingOptions o = resolve_meshing_options(options);
   const bool grey = o.iso.has_value();
   progress.step(o.method == Method::dual_contouring ? "dual contouring" : "marching cubes");
   Scene scene;
   scene.grid = image.grid();
   scene.parts.resize(parts.kept.size());
   const Components& components = parts.components;
-  int64_t total_voxels = 0;
-  for (size_t c : parts.kept) total_voxels += components.components[c].voxels;
-  std::atomic<int64_t> done_voxels{0}, fallbacks{0};
-  // Outside the volume a grey-value field continues with its lowest value (or just below iso).
-  const float background =
-      grey ? static_cast<float>(std::min(parts.range.min, *o.iso - 1.0)) : 0.0f;
+  // Each part's share of the step is its voxel count.
+  std::vector<double> weights;
+  for (size_t c : parts.kept) weights.push_back(double(components.components[c].voxels));
+  PartsProgress shared(progress, weights);
+  const PartSource source{image, components, parts.range};
   // Dual Contouring's solved neighbourhoods, shared by the parts (dual_contouring.hpp).
-  std::optional<DcNeighbourhoods> solved;
-  if (o.method == Method::dual_contouring) solved.emplace(image.grid(), dc_options(o, 0.5));
+  const auto solved = make_shared_neighbourhoods(image.grid(), o);
+  std::atomic<int64_t> fallbacks{0};
   tbb::parallel_for(size_t{0}, parts.kept.size(), [&](size_t p) {
     throw_if_cancelled(progress);
     const Component& c = components.components[parts.kept[p]];
     Part part = describe_part(image, o, c, grey);
-    if (!grey && o.method == Method::marching_cubes && o.presmooth_sigma_mm == 0) {
-      // Straight from the component's runs: no mask, no pass over its bounding box.
-      part.mesh = marching_cubes(image.grid(), components, c,
-                                 {.connectivity = o.connectivity,
-                                  .normals = o.normals,
-                                  .vertex_normals = o.smooth.method == SmoothMethod::none});
-    } else if (!grey && o.presmooth_sigma_mm == 0) {
-      part.mesh = dual_contouring(image.grid(), components, c, dc_options(o, 0.5),
-                                  null_progress(), &*solved);
-    } else if (!grey) {
-      part.mesh = extract_part(image.grid(), o, 0.5, 0.0f, [&](FieldMargin m) {
-        return component_mask(image.grid(), components, c, m);
-      }, fallbacks);
-    } else {
-      part.mesh = std::visit(
-          [&](const auto& v) {
-            return extract_part(image.grid(), o, *o.iso, background, [&](FieldMargin m) {
-              return component_values(v, components, c, *o.iso, background, m);
-            }, fallbacks);
-          },
-          image.volume);
-    }
+    PartMesh extracted = extract_part(source, c, o, shared.part(p), solved.get());
+    part.mesh = std::move(extracted.mesh);
+    if (extracted.unsmoothed_fallback) ++fallbacks;
     scene.parts[p] = std::move(part);
-    progress.update(double(done_voxels += c.voxels) / double(total_voxels));
+    shared.done(p);
   });
   if (presmooth_fallbacks) *presmooth_fallbacks = fallbacks;
   return scene;
@@ -310,8 +207,9 @@ namespace {
 
 // The pipeline. With `release`, the volume's voxels are freed as soon as extraction is done, so
 // smoothing and writing do not carry them (build_scene(Image&&)).
-Scene run_pipeline(const Image& image, const MeshingOptions& o, Progress& progress,
+Scene run_pipeline(const Image& image, const MeshingOptions& options, Progress& progress,
                    PipelineStats* timings, Scene* unsmoothed, Image* release) {
+  const MeshingOptions o = resolve_meshing_options(options);
   PipelineStats local;
   PipelineStats& t = timings ? *timings : local;
   auto start = Clock::now();

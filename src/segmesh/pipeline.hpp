@@ -1,19 +1,17 @@
 // The pipeline: the one path from a volume to a scene of meshed parts. The command line, the
 // viewer, the benchmarks and the tests all call build_scene; none of them re-implements a step.
 //
-//   volume ──► select labels ──► connected components ──► [pre-smooth] ──► extract (MC | DC)
-//          ──► smooth ──► [quality colours] ──► Scene
+//   volume ──► select labels ──► connected components ──► [volume smoothing] ──► extract (MC | DC)
+//          ──► mesh smoothing ──► [quality colours] ──► Scene
 //
-// Label maps: every selected label is split into connected components (components.hpp); each
-// component becomes a Part, extracted from its own 0/1 indicator at 0.5 (Marching Cubes straight
-// from the component's runs, run_scan.hpp; otherwise from a mask, component_field.hpp), so parts
-// never share vertices and each is closed on its own. Extraction is Marching Cubes
-// (marching_cubes.hpp) or Dual Contouring (dual_contouring.hpp); with presmooth_sigma_mm > 0 the
-// part's field is first smoothed by a Gaussian (gaussian_filter.hpp) so binary labels get sub-voxel
-// shape, at a cost in volume. Grey-value volumes (--iso): the
+// Options come resolved from meshing_options.hpp (build_scene resolves them again, so a caller may
+// pass a request). Label maps: every selected label is split into connected components
+// (components.hpp); each component becomes a Part, extracted from its own 0/1 indicator at 0.5 by
+// extract_part (extract_part.hpp: the one dispatch over source, method and volume smoothing), so
+// parts never share vertices and each is closed on its own. Grey-value volumes (--iso): the
 // voxels at or above iso are split the same way and each component is extracted from the grey
-// values themselves. Parts are extracted in parallel; the result does not depend on the number of
-// threads.
+// values themselves. Parts are extracted in parallel, each reporting its progress inside its own
+// extraction; the result does not depend on the number of threads.
 #pragma once
 
 #include <cstdint>
@@ -22,48 +20,21 @@
 #include <vector>
 
 #include "segmesh/components.hpp"
-#include "segmesh/gradient.hpp"
 #include "segmesh/image.hpp"
 #include "segmesh/label_info.hpp"
 #include "segmesh/label_stats.hpp"
+#include "segmesh/meshing_options.hpp"
 #include "segmesh/progress.hpp"
 #include "segmesh/scene.hpp"
-#include "segmesh/smoothing.hpp"
 
 namespace segmesh {
-
-enum class Method { marching_cubes, dual_contouring };
-
-std::string_view method_name(Method method);
-std::optional<Method> parse_method(std::string_view name);  // "mc", "dc"
-std::string_view normals_name(NormalMethod normals);
-std::optional<NormalMethod> parse_normals(std::string_view name);  // "central", "sobel"
-
-// The smoothing `segmesh mesh` applies unless told otherwise (chosen by measurement:
-// docs/STUDY.md).
-SmoothOptions default_smoothing();
-
-struct MeshingOptions {
-  Method method = Method::marching_cubes;
-  std::vector<int32_t> labels;   // labels to mesh; empty: every non-zero label
-  std::optional<double> iso;     // mesh a grey-value volume at this value instead of labels
-  int connectivity = 26;         // voxel connectivity of parts: 6, 18 or 26
-  int64_t min_voxels = 0;        // drop components with fewer voxels (0 keeps everything)
-  NormalMethod normals = NormalMethod::central;
-  std::vector<LabelInfo> label_names;  // --label-names: override the names the file carries
-  double presmooth_sigma_mm = 0;  // > 0: Gaussian smoothing of each part's field before extraction
-  double dc_svd_eps = 0.5;        // Dual Contouring: relative singular value cut-off of the QEF
-  double dc_tolerance_mm = 0;     // Dual Contouring: > 0 simplifies flat regions adaptively
-  SmoothOptions smooth = default_smoothing();  // after extraction, per part
-  bool color_by_quality = false;  // per-vertex colours from the worst incident radii ratio
-};
 
 struct PipelineStats {
   double components_ms = 0;
   double extract_ms = 0;
   double smooth_ms = 0;
   int64_t dropped_components = 0;  // smaller than min_voxels
-  int64_t presmooth_fallbacks = 0;  // parts pre-smoothing would have erased, meshed unsmoothed
+  int64_t presmooth_fallbacks = 0;  // parts volume smoothing would have erased, meshed without it
 };
 
 // A label map with more distinct values than this is taken for a grey-value image unless the

@@ -31,15 +31,13 @@ std::vector<int32_t> parse_label_list(const std::string& text) {
 }
 
 MeshingOptions meshing_options(const MeshingSettings& settings) {
-  if (settings.iterations < 0) throw Error("smoothing iterations must be 0 or more");
   MeshingOptions options;
   options.method = settings.method;
   options.normals = settings.normals;
-  options.smooth = default_smoothing();
   options.smooth.method = settings.smooth;
   options.smooth.iterations = settings.iterations;
   options.labels = parse_label_list(settings.labels);
-  return options;
+  return resolve_meshing_options(options);
 }
 
 }  // namespace segmesh::viewer

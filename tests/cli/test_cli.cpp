@@ -229,6 +229,12 @@ TEST(Cli, BadInputsGiveExitCode2AMessageAndNoOutput) {
       {"unknown output format", q(good) + " -o " + q(dir / "out.xyz"), "unknown mesh format"},
       {"bad connectivity", q(good) + " -o " + out + " --connectivity 7", "connectivity"},
       {"bad normals", q(good) + " -o " + out + " --normals magic", "--normals"},
+      {"smoothing factor out of range", q(good) + " -o " + out + " --smooth hc --alpha 2",
+       "--alpha must be between 0 and 1 (got 2)"},
+      {"negative iterations", q(good) + " -o " + out + " --iterations -3", "--iterations"},
+      {"pass band zero", q(good) + " -o " + out + " --pass-band 0", "--pass-band"},
+      {"not a number", q(good) + " -o " + out + " --presmooth wide", "--presmooth expects a number"},
+      {"label list", q(good) + " -o " + out + " --labels 1,x", "--labels expects whole numbers"},
       {"output is the input", q(good) + " -o " + q(good), ""},
   };
   for (const BadInput& c : cases) {

@@ -214,7 +214,7 @@ TEST(Pipeline, PresmoothingKeepsPartsClosedAndCostsLittleVolumeOnThickParts) {
   const LabelVolume v = box_and_ball(identity3());
   const Scene plain = build_scene(label_image(v), {});
   for (Method method : {Method::marching_cubes, Method::dual_contouring}) {
-    const Scene smooth = build_scene(label_image(v), {.method = method, .presmooth_sigma_mm = 0.6});
+    const Scene smooth = build_scene(label_image(v), {.method = method, .volume_sigma_mm = 0.6});
     ASSERT_EQ(smooth.parts.size(), plain.parts.size());
     expect_all_parts_closed(smooth);
     for (size_t p = 0; p < smooth.parts.size(); ++p) {
@@ -224,7 +224,7 @@ TEST(Pipeline, PresmoothingKeepsPartsClosedAndCostsLittleVolumeOnThickParts) {
       EXPECT_GT(after, 0.85 * before);
     }
   }
-  EXPECT_THROW(build_scene(label_image(v), {.presmooth_sigma_mm = -1}), Error);
+  EXPECT_THROW(build_scene(label_image(v), {.volume_sigma_mm = -1}), Error);
   EXPECT_THROW(build_scene(label_image(v), {.dc_svd_eps = 2}), Error);
 }
 

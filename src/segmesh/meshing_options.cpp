@@ -1,0 +1,270 @@
+#include "segmesh/meshing_options.hpp"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "segmesh/error.hpp"
+
+namespace segmesh {
+
+std::string_view method_name(Method method) {
+  return method == Method::dual_contouring ? "dc" : "mc";
+}
+
+std::optional<Method> parse_method(std::string_view name) {
+  if (name == "mc") return Method::marching_cubes;
+  if (name == "dc") return Method::dual_contouring;
+  return std::nullopt;
+}
+
+std::string_view normals_name(NormalMethod normals) {
+  return normals == NormalMethod::sobel ? "sobel" : "central";
+}
+
+std::optional<NormalMethod> parse_normals(std::string_view name) {
+  if (name == "central") return NormalMethod::central;
+  if (name == "sobel") return NormalMethod::sobel;
+  return std::nullopt;
+}
+
+SmoothOptions default_smoothing() {
+  return {.method = SmoothMethod::sinc, .iterations = 0, .pass_band = 0.01, .sinc_unit_gain = true};
+}
+
+namespace {
+
+// The shortest text that reads back as the same double ("0.5", "1e-06").
+std::string number_text(double v) {
+  char buf[32];
+  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, ec == std::errc() ? end : buf);
+}
+
+std::string got(double v) {
+  return " (got " + number_text(v) + ")";
+}
+
+}  // namespace
+
+MeshingOptions resolve_meshing_options(MeshingOptions o) {
+  auto fail = [](const std::string& message) { throw Error(message); };
+  for (int32_t label : o.labels) {
+    if (label == 0) fail("--labels: 0 is the background and has no surface");
+  }
+  if (o.iso && !o.labels.empty()) {
+    fail("--labels and --iso exclude each other: --iso meshes a grey-value volume");
+  }
+  if (o.iso && !std::isfinite(*o.iso)) fail("--iso must be a finite number");
+  if (o.connectivity != 6 && o.connectivity != 18 && o.connectivity != 26) {
+    fail("--connectivity must be 6, 18 or 26 (got " + std::to_string(o.connectivity) + ")");
+  }
+  if (o.min_voxels < 0) fail("--min-voxels must not be negative" + got(double(o.min_voxels)));
+  if (!(o.volume_sigma_mm >= 0) || !std::isfinite(o.volume_sigma_mm)) {
+    fail("--presmooth must be a non-negative number of millimetres" + got(o.volume_sigma_mm));
+  }
+  if (!(o.dc_svd_eps >= 0 && o.dc_svd_eps <= 1))
+    fail("--dc-svd-eps must be between 0 and 1" + got(o.dc_svd_eps));
+  if (!(o.dc_tolerance_mm >= 0) || !std::isfinite(o.dc_tolerance_mm)) {
+    fail("--dc-tolerance must be a non-negative number of millimetres" + got(o.dc_tolerance_mm));
+  }
+  SmoothOptions& s = o.smooth;
+  if (s.iterations < 0)
+    fail("--iterations must be 0 (the method's default) or more" + got(s.iterations));
+  if (!std::isfinite(s.lambda)) fail("--lambda must be a finite number");
+  if (!(s.alpha >= 0 && s.alpha <= 1)) fail("--alpha must be between 0 and 1" + got(s.alpha));
+  if (!(s.beta >= 0 && s.beta <= 1)) fail("--beta must be between 0 and 1" + got(s.beta));
+  if (!std::isfinite(s.taubin_lambda)) fail("--taubin-lambda must be a finite number");
+  if (!std::isfinite(s.taubin_mu)) fail("--taubin-mu must be a finite number");
+  if (!(s.pass_band > 0 && s.pass_band <= 2))
+    fail("--pass-band must be above 0 and at most 2" + got(s.pass_band));
+  if (s.iterations == 0) s.iterations = default_smooth_iterations(s.method);
+  return o;
+}
+
+namespace {
+
+// ---- text to values, with the option's name in every message --------------------------------
+
+[[noreturn]] void bad_value(std::string_view option, std::string_view expected,
+                            std::string_view text) {
+  throw Error("--" + std::string(option) + " expects " + std::string(expected) + " (got \"" +
+              std::string(text) + "\")");
+}
+
+template <class Int>
+Int whole_number(std::string_view option, std::string_view text) {
+  Int value{};
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size() || text.empty()) {
+    bad_value(option, "a whole number", text);
+  }
+  return value;
+}
+
+double number(std::string_view option, std::string_view text) {
+  // from_chars takes no leading '+'; a user may write one.
+  std::string_view digits = text.starts_with('+') ? text.substr(1) : text;
+  double value = 0;
+  const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+  if (ec != std::errc() || end != digits.data() + digits.size() || digits.empty()) {
+    bad_value(option, "a number", text);
+  }
+  return value;
+}
+
+bool flag(std::string_view option, std::string_view text) {
+  if (text == "true" || text == "1") return true;
+  if (text == "false" || text == "0") return false;
+  bad_value(option, "true or false", text);
+}
+
+std::vector<int32_t> label_list(std::string_view text) {
+  std::vector<int32_t> labels;
+  size_t start = 0;
+  while (start <= text.size()) {
+    const size_t comma = std::min(text.find(',', start), text.size());
+    const std::string_view item = text.substr(start, comma - start);
+    if (!item.empty()) {
+      int32_t value = 0;
+      const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), value);
+      if (ec != std::errc() || end != item.data() + item.size()) {
+        bad_value("labels", "whole numbers like 1,2", text);
+      }
+      labels.push_back(value);
+    }
+    start = comma + 1;
+  }
+  return labels;
+}
+
+std::string labels_text(const std::vector<int32_t>& labels) {
+  std::string s;
+  for (int32_t l : labels) s += (s.empty() ? "" : ",") + std::to_string(l);
+  return s;
+}
+
+// ---- the table -------------------------------------------------------------------------------
+
+// Spec members are plain function pointers; the lambdas below capture nothing.
+using O = MeshingOptions;
+
+constexpr std::array kSpecs = {
+    MeshingOptionSpec{"method", "TEXT", "extraction: mc (Marching Cubes) or dc (Dual Contouring)",
+                      [](const O& o) { return std::string(method_name(o.method)); },
+                      [](O& o, std::string_view t) {
+                        const auto m = parse_method(t);
+                        if (!m)
+                          throw Error("--method must be mc or dc (got \"" + std::string(t) + "\")");
+                        o.method = *m;
+                      }},
+    MeshingOptionSpec{"labels", "INT LIST",
+                      "labels to mesh, e.g. 1,2 (default: every non-zero label)",
+                      [](const O& o) { return labels_text(o.labels); },
+                      [](O& o, std::string_view t) { o.labels = label_list(t); }},
+    MeshingOptionSpec{"iso", "FLOAT", "mesh a grey-value volume (e.g. CT in HU) at this value",
+                      [](const O& o) { return o.iso ? number_text(*o.iso) : std::string(); },
+                      [](O& o, std::string_view t) {
+                        if (t.empty()) {
+                          o.iso.reset();
+                        } else {
+                          o.iso = number("iso", t);
+                        }
+                      }},
+    MeshingOptionSpec{
+        "connectivity", "INT", "voxel connectivity of parts: 6, 18 or 26",
+        [](const O& o) { return std::to_string(o.connectivity); },
+        [](O& o, std::string_view t) { o.connectivity = whole_number<int>("connectivity", t); }},
+    MeshingOptionSpec{
+        "min-voxels", "INT", "drop components with fewer voxels",
+        [](const O& o) { return std::to_string(o.min_voxels); },
+        [](O& o, std::string_view t) { o.min_voxels = whole_number<int64_t>("min-voxels", t); }},
+    MeshingOptionSpec{"normals", "TEXT", "vertex normals: central or sobel",
+                      [](const O& o) { return std::string(normals_name(o.normals)); },
+                      [](O& o, std::string_view t) {
+                        const auto n = parse_normals(t);
+                        if (!n)
+                          throw Error("--normals must be central or sobel (got \"" +
+                                      std::string(t) + "\")");
+                        o.normals = *n;
+                      }},
+    MeshingOptionSpec{
+        "presmooth", "FLOAT",
+        "Gaussian sigma in mm applied to each part before extraction (0: off; costs volume)",
+        [](const O& o) { return number_text(o.volume_sigma_mm); },
+        [](O& o, std::string_view t) { o.volume_sigma_mm = number("presmooth", t); }},
+    MeshingOptionSpec{
+        "dc-svd-eps", "FLOAT",
+        "Dual Contouring: drop QEF singular values below this fraction of the largest",
+        [](const O& o) { return number_text(o.dc_svd_eps); },
+        [](O& o, std::string_view t) { o.dc_svd_eps = number("dc-svd-eps", t); }},
+    MeshingOptionSpec{
+        "dc-tolerance", "FLOAT",
+        "Dual Contouring: simplify flat regions up to this error in mm (0: off)",
+        [](const O& o) { return number_text(o.dc_tolerance_mm); },
+        [](O& o, std::string_view t) { o.dc_tolerance_mm = number("dc-tolerance", t); }},
+    MeshingOptionSpec{"smooth", "TEXT", "smoothing: none, laplacian, hc, taubin or sinc",
+                      [](const O& o) { return std::string(smooth_method_name(o.smooth.method)); },
+                      [](O& o, std::string_view t) {
+                        const auto m = parse_smooth_method(t);
+                        if (!m) {
+                          throw Error(
+                              "--smooth must be none, laplacian, hc, taubin or sinc (got \"" +
+                              std::string(t) + "\")");
+                        }
+                        o.smooth.method = *m;
+                      }},
+    MeshingOptionSpec{
+        "iterations", "INT", "smoothing iterations (0: the method's default)",
+        [](const O& o) { return std::to_string(o.smooth.iterations); },
+        [](O& o, std::string_view t) { o.smooth.iterations = whole_number<int>("iterations", t); }},
+    MeshingOptionSpec{"lambda", "FLOAT", "Laplacian step (1: move to the neighbour average)",
+                      [](const O& o) { return number_text(o.smooth.lambda); },
+                      [](O& o, std::string_view t) { o.smooth.lambda = number("lambda", t); }},
+    MeshingOptionSpec{"alpha", "FLOAT", "HC: weight of the original positions",
+                      [](const O& o) { return number_text(o.smooth.alpha); },
+                      [](O& o, std::string_view t) { o.smooth.alpha = number("alpha", t); }},
+    MeshingOptionSpec{"beta", "FLOAT", "HC: weight of a vertex's own correction",
+                      [](const O& o) { return number_text(o.smooth.beta); },
+                      [](O& o, std::string_view t) { o.smooth.beta = number("beta", t); }},
+    MeshingOptionSpec{
+        "taubin-lambda", "FLOAT", "Taubin: shrinking step",
+        [](const O& o) { return number_text(o.smooth.taubin_lambda); },
+        [](O& o, std::string_view t) { o.smooth.taubin_lambda = number("taubin-lambda", t); }},
+    MeshingOptionSpec{
+        "taubin-mu", "FLOAT", "Taubin: inflating step (negative)",
+        [](const O& o) { return number_text(o.smooth.taubin_mu); },
+        [](O& o, std::string_view t) { o.smooth.taubin_mu = number("taubin-mu", t); }},
+    MeshingOptionSpec{
+        "pass-band", "FLOAT", "windowed sinc: pass band (3D Slicer: 0.01)",
+        [](const O& o) { return number_text(o.smooth.pass_band); },
+        [](O& o, std::string_view t) { o.smooth.pass_band = number("pass-band", t); }},
+    MeshingOptionSpec{
+        "preserve-volume", "FLAG",
+        "do not restore each part's volume after smoothing (the plain filter)",
+        [](const O& o) { return std::string(o.smooth.preserve_volume ? "true" : "false"); },
+        [](O& o, std::string_view t) { o.smooth.preserve_volume = flag("preserve-volume", t); }},
+    MeshingOptionSpec{
+        "unit-gain", "FLAG",
+        "windowed sinc exactly as VTK and 3D Slicer (a slight scaling, f(0) != 1)",
+        [](const O& o) { return std::string(o.smooth.sinc_unit_gain ? "true" : "false"); },
+        [](O& o, std::string_view t) { o.smooth.sinc_unit_gain = flag("unit-gain", t); }},
+};
+
+}  // namespace
+
+std::span<const MeshingOptionSpec> meshing_option_specs() {
+  return kSpecs;
+}
+
+const MeshingOptionSpec* find_meshing_option(std::string_view name) {
+  if (name.starts_with("--")) name.remove_prefix(2);
+  for (const MeshingOptionSpec& s : kSpecs) {
+    if (s.name == name) return &s;
+  }
+  return nullptr;
+}
+
+}  // namespace segmesh
