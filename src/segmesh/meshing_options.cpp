@@ -1,5 +1,6 @@
 #include "segmesh/meshing_options.hpp"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -71,15 +72,11 @@ MeshingOptions resolve_meshing_options(MeshingOptions o) {
     fail("--dc-tolerance must be a non-negative number of millimetres" + got(o.dc_tolerance_mm));
   }
   SmoothOptions& s = o.smooth;
-  if (s.iterations < 0)
-    fail("--iterations must be 0 (the method's default) or more" + got(s.iterations));
-  if (!std::isfinite(s.lambda)) fail("--lambda must be a finite number");
-  if (!(s.alpha >= 0 && s.alpha <= 1)) fail("--alpha must be between 0 and 1" + got(s.alpha));
-  if (!(s.beta >= 0 && s.beta <= 1)) fail("--beta must be between 0 and 1" + got(s.beta));
-  if (!std::isfinite(s.taubin_lambda)) fail("--taubin-lambda must be a finite number");
-  if (!std::isfinite(s.taubin_mu)) fail("--taubin-mu must be a finite number");
-  if (!(s.pass_band > 0 && s.pass_band <= 2))
-    fail("--pass-band must be above 0 and at most 2" + got(s.pass_band));
+  if (const auto problem = smooth_options_problem(s)) {
+    std::string option(problem->option);
+    std::replace(option.begin(), option.end(), '_', '-');  // taubin_mu: --taubin-mu
+    fail("--" + option + " " + problem->rule);
+  }
   if (s.iterations == 0) s.iterations = default_smooth_iterations(s.method);
   return o;
 }

@@ -71,13 +71,12 @@
 //
 // Cost: O(iterations x triangles) time (HC: two sweeps per iteration, Taubin two, sinc one,
 // Laplacian one) plus one read of the indices for the chunks; memory: 16 bytes per vertex per
-// buffer, two buffers (three for the sinc), plus the normals the mesh gets.
-// Measured on make_big.py's largest part (2.6 M vertices, 5.2 M triangles), Intel host of
-// docs/PERFORMANCE.md, 1 / 2 threads: HC (2) 193-207 / 100-103 ms, Laplacian (2) 145 / 75-79,
-// sinc (20) 646-655 / 320-324, Taubin (20) 1440-1510 / 717-721, vertex normals 50 / 27.
+// buffer, two buffers (three for the sinc), plus the normals the mesh gets (measured times per
+// filter: docs/PERFORMANCE.md).
 #pragma once
 
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -122,6 +121,16 @@ struct SmoothOptions {
 
 // The iteration count `iterations == 0` stands for.
 int default_smooth_iterations(SmoothMethod method);
+
+// The first field of `options` out of range, by its name in SmoothOptions ("alpha", "pass_band")
+// with the rule it breaks and the value ("must be between 0 and 1 (got 2)"), or nullopt. The one
+// list of the checks: smooth_mesh throws on it, resolve_meshing_options reports it by the
+// command-line option's name.
+struct OptionProblem {
+  std::string_view option;
+  std::string rule;
+};
+std::optional<OptionProblem> smooth_options_problem(const SmoothOptions& options);
 
 // Smooths the positions of `mesh` in place (connectivity untouched) as described above, then
 // recomputes its normals (compute_vertex_normals). SmoothMethod::none leaves the mesh untouched,

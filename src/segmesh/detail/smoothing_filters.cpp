@@ -1,0 +1,141 @@
+#include "segmesh/detail/smoothing_filters.hpp"
+
+#include <utility>
+
+namespace segmesh {
+
+void Smoother::add_umbrella(const F4* d, F4* acc, bool count) const {
+  const F4 one = count ? F4{0, 0, 0, 1} : F4{};
+  t_.each_proper([&](uint32_t a, uint32_t b, uint32_t c) {
+    const F4 oa = load3(o_[a]);
+    F4 ab = load3(o_[b]) - oa, ac = load3(o_[c]) - oa;
+    if (d) {
+      ab += d[b] - d[a];
+      ac += d[c] - d[a];
+    }
+    const F4 bc = ac - ab;
+    acc[a] += ab + ac + one;
+    acc[b] += bc - ab + one;
+    acc[c] += one - ac - bc;
+  });
+}
+
+void Smoother::add_neighbours(const F4* x, F4* acc) const {
+  t_.each_proper([&](uint32_t a, uint32_t b, uint32_t c) {
+    const F4 xa = x[a], xb = x[b], xc = x[c];
+    acc[a] += xb + xc;
+    acc[b] += xa + xc;
+    acc[c] += xa + xb;
+  });
+}
+
+void Smoother::laplacian(const std::vector<double>& factors, size_t per_tick, F4*& d,
+                         F4*& scratch) {
+  for (size_t s = 0; s < factors.size(); ++s) {
+    if (s % per_tick == 0) ticker_.begin();
+    const float f = static_cast<float>(factors[s]);
+    const bool first = s == 0;
+    add_umbrella(first ? nullptr : d, scratch, first);
+    for_each_vertex(n_, [&](size_t i) {
+      const float c = first ? scratch[i][3] : d[i][3];
+      const F4 old = first ? F4{} : d[i];
+      scratch[i] = with_w(old + (f * half_inverse(c)) * scratch[i], c);
+      d[i] = F4{};
+    });
+    std::swap(d, scratch);
+    if (s % per_tick == per_tick - 1) ticker_.end();
+  }
+}
+
+void Smoother::hc(int iterations, double alpha, double beta, F4* x, F4* y) {
+  const float keep = static_cast<float>(1 - alpha), spread = static_cast<float>(1 - beta);
+  for (int it = 0; it < iterations; ++it) {
+    ticker_.begin();
+    if (spread == 0) {  // D stays 0; y needs the counts
+      if (it == 0) {
+        add_umbrella(nullptr, x, true);
+        for_each_vertex(n_, [&](size_t i) {
+          y[i] = F4{0, 0, 0, x[i][3]};
+          x[i] = F4{};
+        });
+      }
+      ticker_.end();
+      continue;
+    }
+    const bool first = it == 0, second = it == 1;
+    if (first) {
+      add_umbrella(nullptr, x, true);
+    } else if (second) {
+      add_neighbours(y, x);
+    } else {
+      add_umbrella(y, x, false);
+    }
+    const float ratio = keep / spread;
+    for_each_vertex(n_, [&](size_t i) {
+      const float c = first ? x[i][3] : y[i][3];
+      const F4 di = first ? F4{} : y[i];
+      F4 b = half_inverse(c) * x[i];
+      if (!first) b += (second ? -keep : 1 - keep) * di;
+      x[i] = with_w(b, c);
+      y[i] = (-2 * c) * (b + ratio * di);
+    });
+    add_neighbours(x, y);
+    const bool next_second = it == 0 && iterations > 1;
+    for_each_vertex(n_, [&](size_t i) {
+      const float c = x[i][3];
+      y[i] = with_w((-spread * half_inverse(c)) * y[i], c);
+      x[i] = next_second ? with_w((2 * c) * x[i], 0.0f) : F4{};
+    });
+    ticker_.end();
+  }
+}
+
+double Smoother::sinc(const std::vector<double>& c, F4*& d, F4*& scratch, F4* l0) {
+  const int n = static_cast<int>(c.size()) - 1;
+  std::vector<double> beta(n + 3, 0.0);
+  for (int k = n; k >= 1; --k) beta[k] = c[k] + 2 * beta[k + 1] - beta[k + 2];
+  double gain = 0;
+  for (double x : c) gain += x;
+  // The sweeps, last first: sweep k (k = n - 2 .. 1, then the final one) with weight w, scale s.
+  struct Sweep {
+    float w, s;
+  };
+  std::vector<Sweep> sweeps;
+  for (int k = n - 2; k >= 1; --k) sweeps.push_back({static_cast<float>(beta[k + 1]), 1.0f});
+  sweeps.push_back({static_cast<float>(0.5 * beta[1]), 0.5f});
+  auto preset = [&](size_t i, float cnt, F4 x, F4 y, const Sweep& sw) {
+    return (2 * cnt) * x + (2 * cnt / sw.s) * (sw.w * l0[i] - y);
+  };
+  // cur = d_{k+1}, prev = d_{k+2}, starting at k = N - 2: d_{N-1} = c_N L0, d_N = 0.
+  F4* cur = d;
+  F4* prev = scratch;
+  const float c_n = n >= 2 ? static_cast<float>(c[n]) : 0.0f;
+  ticker_.begin();
+  add_umbrella(nullptr, l0, true);
+  for_each_vertex(n_, [&](size_t i) {
+    const float cnt = l0[i][3];
+    const F4 l = half_inverse(cnt) * l0[i];
+    l0[i] = with_w(l, cnt);
+    cur[i] = c_n * l;
+    prev[i] = preset(i, cnt, cur[i], F4{}, sweeps[0]);
+  });
+  ticker_.end();
+  for (size_t k = 0; k < sweeps.size(); ++k) {
+    const bool last = k + 1 == sweeps.size();
+    if (!last || n >= 2) ticker_.begin();
+    add_neighbours(cur, prev);
+    for_each_vertex(n_, [&](size_t i) {
+      const float cnt = l0[i][3];
+      const F4 y = (sweeps[k].s * half_inverse(cnt)) * prev[i];
+      prev[i] = y;
+      cur[i] = last ? F4{} : preset(i, cnt, y, cur[i], sweeps[k + 1]);
+    });
+    std::swap(cur, prev);
+    if (!last || n >= 2) ticker_.end();
+  }
+  d = cur;  // the result
+  scratch = prev;
+  return gain;
+}
+
+}  // namespace segmesh
