@@ -1,23 +1,22 @@
 // Growing a large array with its fresh memory made resident first, by every thread.
 //
 // The first write to a page the process has never used costs a page fault in which the kernel
-// finds and zeroes a page: 0.65-0.85 ms per MB on the 2-core virtual machines segmesh is measured
-// on, more than a pass of arithmetic over the same data. std::vector::resize zero-fills the new
+// finds and zeroes a page: on the virtual machines segmesh is measured on, more than a pass of
+// arithmetic over the same data (docs/PERFORMANCE.md has the measurements). std::vector::resize zero-fills the new
 // elements from the calling thread, so every fault of an output array is taken in that one
 // thread, while the parallel loop that fills the array afterwards waits. Faults taken by several
-// threads at once proceed side by side (125 MB first touched in 92-104 ms from one thread, 54-59 ms
-// from two, docs/PERFORMANCE.md). And a page range the kernel is asked to populate in one call
-// costs about two thirds of the same pages faulted one write at a time. first_touch therefore
+// threads at once proceed side by side, and a page range the kernel is asked to populate in one
+// call costs less than the same pages faulted one write at a time. first_touch therefore
 // asks the kernel for each task's pages (MADV_POPULATE_WRITE), from a parallel loop, before the
 // array's first pass; resize_zeroed does that and only then resizes, so the zero fill runs over
-// resident pages at memory speed (7 ms for 125 MB). Same result as resize(n): the new elements
+// resident pages at memory speed. Same result as resize(n): the new elements
 // are zero. On kernels before 5.14, which refuse the request, one byte per page is written.
 //
 // Below kParallelFirstTouchBytes nothing is done beforehand (resize_zeroed: a plain resize), and
 // with one thread the pages are populated by one call from the calling thread. The bound is 1 MB
-// (256 pages, four tasks of 64): the pelvis's two parts have 2.6 and 1.3 MB of output, and their
-// Marching Cubes at two threads took 2.9 ms with a 4 MB bound and 2.6 ms with this one (single
-// runs, docs/PERFORMANCE.md); the phantom's ten parts, extracted side by side, were no slower.
+// (256 pages, four tasks of 64): small enough that the outputs of mid-sized parts (a pelvis
+// fragment's few MB) are populated in parallel, large enough that the many small parts extracted
+// side by side do not pay for tasks.
 #pragma once
 
 #include <sys/mman.h>
@@ -48,8 +47,8 @@ inline int first_touch_threads() {
 // Makes the pages of [data, data + bytes) resident, from every thread (first_touch_threads), when
 // they span at least kParallelFirstTouchBytes (smaller ranges are left to their first pass).
 // Each task asks the kernel to fault its page range in at once (Linux's MADV_POPULATE_WRITE, 5.14
-// and later), which costs about two thirds of faulting the same pages one write at a time
-// (64 MB: 31 against 45 ms on the Intel host of docs/PERFORMANCE.md); where the kernel refuses,
+// and later), which costs less than faulting the same pages one write at a time; where the
+// kernel refuses,
 // it writes one byte per page. For raw storage that holds no object yet; it writes nothing but
 // zeros, so zeroed storage (calloc's) stays zero.
 inline void first_touch(void* data, size_t bytes) {

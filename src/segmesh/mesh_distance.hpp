@@ -31,7 +31,7 @@
 // as the surface bends over the node, where an axis-aligned box is about as thick as the node is
 // wide; that slack decides how many nearly equidistant triangles a query must look at: with
 // axis-aligned boxes, queries from points far outside or deep inside a 1.5 M triangle sphere tested
-// thousands of triangles (0.1 to 0.2 ms each), with oriented boxes about a hundred. Each leaf's
+// thousands of triangles, with oriented boxes about a hundred. Each leaf's
 // triangles are stored by value in leaf order, so a leaf is one contiguous read and MeshDistance
 // keeps no reference to the mesh.
 //
@@ -42,9 +42,8 @@
 //
 // Cost: construction O(n log n) time (a linear selection and a projection of the node's corners per
 // level), 50 to 70 bytes per triangle. A query visits O(log n) nodes on smooth surfaces, more where
-// many triangles are equidistant from it (near the centre of a sphere). Measured on a 1.5 M
-// triangle sphere on one core: build 0.5 s; 4 to 6 us per query within 20 mm of the surface, about
-// 20 us at ten radii away, mostly cache misses. mesh_deviation: O((V + T) log T) over both
+// many triangles are equidistant from it (near the centre of a sphere); far from the surface a
+// query's time is mostly cache misses. mesh_deviation: O((V + T) log T) over both
 // directions, plus the samples' distances (8 bytes each) for the 95th percentile.
 #pragma once
 

@@ -15,9 +15,8 @@
 //
 // Cost: three reads of the index array and one scattered write of the rows; memory: the rows
 // (4 bytes per vertex plus 4 per corner: 12 per triangle) and the counters while building.
-// (Smoothing used these rows until it moved to sums over the triangles, triangle_scatter.hpp: on
-// the 5.2 M-triangle part of make_big.py's volume building them took about 155 ms at one thread,
-// more than the four sweeps of HC x2; docs/PERFORMANCE.md.)
+// (Smoothing used these rows until it moved to sums over the triangles, triangle_scatter.hpp:
+// building them cost more than the four sweeps of HC x2; docs/PERFORMANCE.md.)
 #pragma once
 
 #include <cstddef>

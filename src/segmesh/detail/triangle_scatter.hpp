@@ -74,8 +74,7 @@ void scatter_triangles(const TriangleChunks& chunks, Body&& body) {
 // triangles, each walked as four interleaved quarters (t, t + q, t + 2 q, t + 3 q, t + 1, ...).
 // Consecutive triangles of a mesh share vertices, so adding their terms one after the other makes
 // each vertex's additions wait on the previous one's store; triangles a quarter block apart
-// rarely share one, so the four streams overlap (a sweep over big_seg's 5.2 M triangles 20.7 ms
-// in order, 15.3 ms this way, docs/PERFORMANCE.md).
+// rarely share one, so the four streams overlap (docs/PERFORMANCE.md has the measurement).
 template <class F>
 void for_each_interleaved(size_t first, size_t last, F&& f) {
   constexpr size_t kBlock = size_t{1} << 16;
