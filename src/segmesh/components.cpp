@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <numeric>
 #include <stdexcept>
@@ -49,6 +50,7 @@ LabelRuns scan_runs(const Volume<T>& volume, LabelOf label_of, Progress& progres
   constexpr int64_t kChunk = 1024;
   const int64_t chunks = (rows + kChunk - 1) / kChunk;
   std::vector<std::vector<LabelRun>> found(static_cast<size_t>(chunks));
+  std::atomic<int64_t> chunks_done{0};
   tbb::parallel_for(int64_t{0}, chunks, [&](int64_t c) {
     throw_if_cancelled(progress);
     std::vector<LabelRun>& local = found[static_cast<size_t>(c)];
@@ -70,6 +72,7 @@ LabelRuns scan_runs(const Volume<T>& volume, LabelOf label_of, Progress& progres
       if (last_label != 0) local.push_back({{start, static_cast<int32_t>(nx), y, z}, last_label});
       out.row_first[static_cast<size_t>(row) + 1] = local.size();  // within the chunk for now
     }
+    progress.update(double(++chunks_done) / double(chunks));
   });
   // Chunk-local row ends to global row starts.
   size_t total = 0;

@@ -128,11 +128,14 @@ std::string part_name(std::string_view base, int component) {
 
 void smooth_scene(Scene& scene, const SmoothOptions& options, Progress& progress) {
   if (options.method == SmoothMethod::none) return;
-  std::atomic<size_t> done{0};
+  // Each part's share of the step is its triangle count; smooth_mesh reports its iterations.
+  std::vector<double> weights;
+  for (const Part& part : scene.parts) weights.push_back(double(part.mesh.triangle_count()));
+  PartsProgress shared(progress, weights);
   tbb::parallel_for(size_t{0}, scene.parts.size(), [&](size_t p) {
     throw_if_cancelled(progress);
-    smooth_mesh(scene.parts[p].mesh, options);
-    progress.update(double(++done) / double(scene.parts.size()));
+    smooth_mesh(scene.parts[p].mesh, options, shared.part(p));
+    shared.done(p);
   });
 }
 

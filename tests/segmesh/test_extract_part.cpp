@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
+#include <map>
 #include <mutex>
 #include <set>
 #include <string>
@@ -119,6 +120,28 @@ TEST(ExtractPart, CancelStopsInsideTheExtractionOfOnePart) {
     // The cancel came inside the part: its progress had passed 0.2 but not reached the end.
     EXPECT_LT(*r.inside_fractions.rbegin(), 1.0) << step_name(method);
   }
+}
+
+TEST(ExtractPart, SmoothingAndComponentsReportInsideOnePart) {
+  // The steps around the extraction move too: the components scan by rows, the smoothing of the
+  // one part by iterations.
+  const Image image = ball_image(96);
+  struct Fractions : Progress {
+    std::mutex mutex;
+    std::string current;
+    std::map<std::string, std::set<double>> seen;
+    void step(std::string_view name) override {
+      std::lock_guard lock(mutex);
+      current = name;
+    }
+    void update(double f) override {
+      std::lock_guard lock(mutex);
+      seen[current].insert(f);
+    }
+  } r;
+  build_scene(image, {}, r);
+  EXPECT_GE(r.seen["components"].size(), 3u);
+  EXPECT_GE(r.seen["smoothing"].size(), 10u);  // 20 sinc iterations of one part
 }
 
 TEST(ExtractPart, TheDispatchGivesWhatEachExtractorGives) {
