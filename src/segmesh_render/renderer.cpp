@@ -11,7 +11,7 @@
 
 #include "segmesh/error.hpp"
 #include "segmesh/quality.hpp"
-#include "segmesh_render/shaders.hpp"
+#include "segmesh_render/detail/shaders.hpp"
 
 namespace segmesh::render {
 
