@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "cli/cli_run.hpp"
-#include "support/decoded_png.hpp"
+#include "support/pictures.hpp"
 #include "support/test_support.hpp"
 
 namespace segmesh {
@@ -20,10 +20,9 @@ using Png = test::DecodedPng;  // RGB
 using test::read_png;
 using test::run_segmesh;
 constexpr auto q = test::shell_quoted;
-constexpr auto red = test::is_red;
-
-bool blue(const uint8_t* p) { return p[2] > p[0] + 40 && p[2] > p[1] + 40; }
-bool green(const uint8_t* p) { return p[1] > p[0] + 40 && p[1] > p[2] + 40; }
+constexpr auto red = test::red_dominant;
+constexpr auto blue = test::blue_dominant;
+constexpr auto green = test::green_dominant;
 
 int count(const Png& png, bool (*pred)(const uint8_t*)) {
   int n = 0;
@@ -34,8 +33,7 @@ int count(const Png& png, bool (*pred)(const uint8_t*)) {
 double mean_luminance(const Png& png) {
   double sum = 0;
   for (size_t i = 0; i < png.size(); ++i) {
-    const uint8_t* p = png.at(i);
-    sum += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+    sum += test::luminance(png.at(i));
   }
   return sum / double(std::max<size_t>(png.size(), 1));
 }

@@ -7,7 +7,7 @@
 
 #include "segmesh/error.hpp"
 #include "segmesh_render/png.hpp"
-#include "support/decoded_png.hpp"
+#include "support/pictures.hpp"
 #include "support/test_support.hpp"
 
 namespace segmesh {

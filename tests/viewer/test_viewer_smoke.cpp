@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "support/decoded_png.hpp"
+#include "support/pictures.hpp"
 #include "support/test_support.hpp"
 
 namespace segmesh {
@@ -23,7 +23,7 @@ namespace fs = std::filesystem;
 using Png = test::DecodedPng;  // RGB
 using test::read_png;
 constexpr auto q = test::shell_quoted;
-constexpr auto red = test::is_red;
+constexpr auto red = test::red_dominant;
 
 std::string slurp(const fs::path& file) {
   std::ifstream in(file);

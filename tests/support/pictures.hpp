@@ -1,6 +1,7 @@
-// Decoded PNG pictures for the tests that check what a rendering shows (`segmesh render`, the
-// viewer's screenshots, the PNG encoder's round trip). stb_image decodes them; its implementation
-// is compiled once, in decoded_png.cpp, so no test file includes it.
+// Pictures in tests: decoded PNG files (`segmesh render`'s output, the viewer's screenshots, the
+// PNG encoder's round trip) and the pixel classes the picture tests count (the implant's red,
+// the quality colours' blue and green, luminance). stb_image decodes; its implementation is
+// compiled once, in pictures.cpp, so no test file includes it.
 #pragma once
 
 #include <cstddef>
@@ -29,9 +30,20 @@ DecodedPng decode_png(const std::vector<uint8_t>& bytes, int components);
 // The PNG file `file` decoded to `components` bytes per pixel (RGB unless told).
 DecodedPng read_png(const std::filesystem::path& file, int components = 3);
 
-// The implant's red (the phantom's plate and screws, shaded), as the picture tests count it.
-inline bool is_red(const uint8_t* rgb) {
-  return rgb[0] > 60 && rgb[0] > 2 * rgb[1] && rgb[0] > 2 * rgb[2];
+// Classes of an RGB(A) pixel, 8 bits per channel, as the picture tests count them.
+inline double luminance(const uint8_t* px) {
+  return 0.2126 * px[0] + 0.7152 * px[1] + 0.0722 * px[2];
+}
+// The implant's red (the phantom's plate and screws, shaded).
+inline bool red_dominant(const uint8_t* px) {
+  return px[0] > 60 && px[0] > 2 * px[1] && px[0] > 2 * px[2];
+}
+// The quality colours' blue (radii ratio near 0) and green (near 1).
+inline bool blue_dominant(const uint8_t* px) {
+  return px[2] > px[0] + 40 && px[2] > px[1] + 40;
+}
+inline bool green_dominant(const uint8_t* px) {
+  return px[1] > px[0] + 40 && px[1] > px[2] + 40;
 }
 
 }  // namespace segmesh::test

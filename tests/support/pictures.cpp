@@ -1,4 +1,4 @@
-#include "support/decoded_png.hpp"
+#include "support/pictures.hpp"
 
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_STATIC
