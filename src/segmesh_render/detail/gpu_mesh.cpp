@@ -42,14 +42,23 @@ std::vector<Vec3f> vertex_normals(const TriMesh& m) {
   return out;
 }
 
+// Fills `buffer` (made when 0) with `values` and feeds it to attribute `location` of the bound
+// vertex array: `components` of `type` per vertex, tightly packed; `normalized` maps integers
+// to [0, 1].
+template <class T>
+void upload_attribute(GLuint& buffer, GLuint location, const std::vector<T>& values,
+                      GLint components, GLenum type, GLboolean normalized) {
+  if (!buffer) glGenBuffers(1, &buffer);
+  glBindBuffer(GL_ARRAY_BUFFER, buffer);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(values.size() * sizeof(T)), values.data(),
+               GL_STATIC_DRAW);
+  glEnableVertexAttribArray(location);
+  glVertexAttribPointer(location, components, type, normalized, sizeof(T), nullptr);
+}
+
 void upload_colors(GpuMesh& g, const std::vector<Rgba8>& colors) {
   glBindVertexArray(g.vao);
-  if (!g.colors) glGenBuffers(1, &g.colors);
-  glBindBuffer(GL_ARRAY_BUFFER, g.colors);
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(colors.size() * sizeof(Rgba8)), colors.data(),
-               GL_STATIC_DRAW);
-  glEnableVertexAttribArray(2);
-  glVertexAttribPointer(2, 4, GL_UNSIGNED_BYTE, GL_TRUE, 0, nullptr);
+  upload_attribute(g.colors, 2, colors, 4, GL_UNSIGNED_BYTE, GL_TRUE);
   glBindVertexArray(0);
 }
 
@@ -60,21 +69,10 @@ void upload(GpuMesh& g, const TriMesh& mesh) {
   if (mesh.empty() || mesh.positions.empty()) return;
   glGenVertexArrays(1, &g.vao);
   glBindVertexArray(g.vao);
-  glGenBuffers(1, &g.positions);
-  glBindBuffer(GL_ARRAY_BUFFER, g.positions);
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(mesh.positions.size() * sizeof(Vec3f)),
-               mesh.positions.data(), GL_STATIC_DRAW);
-  glEnableVertexAttribArray(0);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vec3f), nullptr);
-  glGenBuffers(1, &g.normals);
-  glBindBuffer(GL_ARRAY_BUFFER, g.normals);
+  upload_attribute(g.positions, 0, mesh.positions, 3, GL_FLOAT, GL_FALSE);
   const std::vector<Vec3f> computed =
       mesh.normals.size() == mesh.positions.size() ? std::vector<Vec3f>{} : vertex_normals(mesh);
-  const std::vector<Vec3f>& normals = computed.empty() ? mesh.normals : computed;
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(normals.size() * sizeof(Vec3f)), normals.data(),
-               GL_STATIC_DRAW);
-  glEnableVertexAttribArray(1);
-  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(Vec3f), nullptr);
+  upload_attribute(g.normals, 1, computed.empty() ? mesh.normals : computed, 3, GL_FLOAT, GL_FALSE);
   glGenBuffers(1, &g.indices);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.indices);
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.indices.size() * sizeof(uint32_t)),
