@@ -9,54 +9,20 @@
 #include <vector>
 
 #include "cli/cli_run.hpp"
+#include "support/pictures.hpp"
 #include "support/test_support.hpp"
-
-#define STB_IMAGE_IMPLEMENTATION
-#define STB_IMAGE_STATIC
-#define STBI_ONLY_PNG
-#if defined(__GNUC__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#endif
-#include <stb/stb_image.h>
-#if defined(__GNUC__)
-#pragma GCC diagnostic pop
-#endif
 
 namespace segmesh {
 namespace {
 
 namespace fs = std::filesystem;
+using Png = test::DecodedPng;  // RGB
+using test::read_png;
 using test::run_segmesh;
-
-std::string q(const fs::path& p) {
-  std::string quoted = p.string();
-  quoted.insert(quoted.begin(), '\'');
-  quoted.push_back('\'');
-  return quoted;
-}
-
-struct Png {
-  int width = 0, height = 0;
-  std::vector<uint8_t> rgb;
-  const uint8_t* at(size_t i) const { return &rgb[3 * i]; }
-  size_t size() const { return size_t(width) * height; }
-};
-
-Png read_png(const fs::path& file) {
-  Png png;
-  int channels = 0;
-  stbi_uc* data = stbi_load(file.c_str(), &png.width, &png.height, &channels, 3);
-  if (!data) return png;
-  png.rgb.assign(data, data + size_t(png.width) * png.height * 3);
-  stbi_image_free(data);
-  return png;
-}
-
-bool red(const uint8_t* p) { return p[0] > 60 && p[0] > 2 * p[1] && p[0] > 2 * p[2]; }
-bool blue(const uint8_t* p) { return p[2] > p[0] + 40 && p[2] > p[1] + 40; }
-bool green(const uint8_t* p) { return p[1] > p[0] + 40 && p[1] > p[2] + 40; }
+constexpr auto q = test::shell_quoted;
+constexpr auto red = test::red_dominant;
+constexpr auto blue = test::blue_dominant;
+constexpr auto green = test::green_dominant;
 
 int count(const Png& png, bool (*pred)(const uint8_t*)) {
   int n = 0;
@@ -67,8 +33,7 @@ int count(const Png& png, bool (*pred)(const uint8_t*)) {
 double mean_luminance(const Png& png) {
   double sum = 0;
   for (size_t i = 0; i < png.size(); ++i) {
-    const uint8_t* p = png.at(i);
-    sum += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+    sum += test::luminance(png.at(i));
   }
   return sum / double(std::max<size_t>(png.size(), 1));
 }

@@ -15,6 +15,7 @@
 #include "segmesh_render/camera.hpp"
 #include "segmesh_render/headless_context.hpp"
 #include "segmesh_render/renderer.hpp"
+#include "support/pictures.hpp"  // luminance and the pixel classes
 
 namespace segmesh::test {
 
@@ -64,10 +65,6 @@ inline PhantomParts phantom_parts(const Scene& scene) {
   return p;
 }
 
-inline double luminance(const uint8_t* px) { return 0.2126 * px[0] + 0.7152 * px[1] + 0.0722 * px[2]; }
-inline bool red_dominant(const uint8_t* px) { return px[0] > 60 && px[0] > 2 * px[1] && px[0] > 2 * px[2]; }
-inline bool blue_dominant(const uint8_t* px) { return px[2] > px[0] + 40 && px[2] > px[1] + 40; }
-inline bool green_dominant(const uint8_t* px) { return px[1] > px[0] + 40 && px[1] > px[2] + 40; }
 
 // Pixels whose id is in `ids` and whose 8 neighbours have the same id (edges mix colours).
 inline std::vector<int> interior_pixels(const std::vector<int32_t>& id_image, int w, int h,

@@ -7,20 +7,8 @@
 
 #include "segmesh/error.hpp"
 #include "segmesh_render/png.hpp"
+#include "support/pictures.hpp"
 #include "support/test_support.hpp"
-
-#define STB_IMAGE_IMPLEMENTATION
-#define STB_IMAGE_STATIC
-#define STBI_ONLY_PNG
-#if defined(__GNUC__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#endif
-#include <stb/stb_image.h>
-#if defined(__GNUC__)
-#pragma GCC diagnostic pop
-#endif
 
 namespace segmesh {
 namespace {
@@ -42,14 +30,12 @@ TEST(Png, RoundTripsRgbAndRgba) {
   for (bool translucent : {false, true}) {
     const RgbaImage img = pattern(37, 23, translucent);
     const std::vector<uint8_t> png = encode_png(img);
-    int w = 0, h = 0, channels = 0;
-    stbi_uc* back = stbi_load_from_memory(png.data(), int(png.size()), &w, &h, &channels, 4);
-    ASSERT_NE(back, nullptr);
-    EXPECT_EQ(w, 37);
-    EXPECT_EQ(h, 23);
-    EXPECT_EQ(channels, translucent ? 4 : 3);  // opaque pictures drop the alpha channel
-    EXPECT_TRUE(std::equal(img.rgba.begin(), img.rgba.end(), back));
-    stbi_image_free(back);
+    const test::DecodedPng back = test::decode_png(png, 4);
+    ASSERT_FALSE(back.pixels.empty());
+    EXPECT_EQ(back.width, 37);
+    EXPECT_EQ(back.height, 23);
+    EXPECT_EQ(back.channels_in_file, translucent ? 4 : 3);  // opaque pictures drop the alpha
+    EXPECT_EQ(back.pixels, img.rgba);
   }
   EXPECT_THROW(encode_png(RgbaImage{4, 4, std::vector<uint8_t>(10)}), std::invalid_argument);
 }

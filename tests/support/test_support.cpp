@@ -19,4 +19,11 @@ std::filesystem::path scratch_dir(const std::string& name) {
   return dir;
 }
 
+std::string shell_quoted(const std::filesystem::path& path) {
+  std::string quoted = path.string();  // (not "'" + ... + "'": GCC 12 warns falsely about it)
+  quoted.insert(quoted.begin(), '\'');
+  quoted.push_back('\'');
+  return quoted;
+}
+
 }  // namespace segmesh::test

@@ -14,6 +14,9 @@ std::filesystem::path shared_data_dir();
 // A fresh empty directory under the build tree for one test's outputs.
 std::filesystem::path scratch_dir(const std::string& name);
 
+// `path` in single quotes, for a /bin/sh command line (paths with spaces; none holds a quote).
+std::string shell_quoted(const std::filesystem::path& path);
+
 }  // namespace segmesh::test
 
 // Skips the current test with a clear message when a file under ../shared/data is missing;

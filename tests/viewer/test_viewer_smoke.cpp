@@ -13,32 +13,17 @@
 #include <string>
 #include <vector>
 
+#include "support/pictures.hpp"
 #include "support/test_support.hpp"
-
-#define STB_IMAGE_IMPLEMENTATION
-#define STB_IMAGE_STATIC
-#define STBI_ONLY_PNG
-#if defined(__GNUC__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#endif
-#include <stb/stb_image.h>
-#if defined(__GNUC__)
-#pragma GCC diagnostic pop
-#endif
 
 namespace segmesh {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string q(const fs::path& p) {
-  std::string quoted = p.string();  // (not "'" + ... + "'": GCC 12 warns falsely about it)
-  quoted.insert(quoted.begin(), '\'');
-  quoted.push_back('\'');
-  return quoted;
-}
+using Png = test::DecodedPng;  // RGB
+using test::read_png;
+constexpr auto q = test::shell_quoted;
+constexpr auto red = test::red_dominant;
 
 std::string slurp(const fs::path& file) {
   std::ifstream in(file);
@@ -76,23 +61,6 @@ ProcessResult viewer(const std::string& args, const fs::path& dir) {
   return r;
 }
 
-struct Png {
-  int width = 0, height = 0;
-  std::vector<uint8_t> rgb;
-  const uint8_t* at(int x, int y) const { return &rgb[3 * (size_t(y) * width + x)]; }
-};
-
-Png read_png(const fs::path& file) {
-  Png png;
-  int channels = 0;
-  stbi_uc* data = stbi_load(file.c_str(), &png.width, &png.height, &channels, 3);
-  if (!data) return png;
-  png.rgb.assign(data, data + size_t(png.width) * png.height * 3);
-  stbi_image_free(data);
-  return png;
-}
-
-bool red(const uint8_t* p) { return p[0] > 60 && p[0] > 2 * p[1] && p[0] > 2 * p[2]; }
 bool bright(const uint8_t* p) { return p[0] > 150 && p[1] > 150 && p[2] > 150; }
 
 struct Counts {

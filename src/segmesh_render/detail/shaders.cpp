@@ -1,6 +1,15 @@
-#include "segmesh_render/shaders.hpp"
+#include "segmesh_render/detail/shaders.hpp"
 
 namespace segmesh::render::shaders {
+
+// How every fragment shader of a mesh pass begins: the version and mesh_vertex's outputs, written
+// once so the passes cannot drift from the vertex shader. No newline at its end: each source
+// below goes on with R"( and a line break.
+#define SEGMESH_MESH_FRAGMENT_INPUTS \
+  "#version 330 core\n"              \
+  "in vec3 v_position;\n"            \
+  "in vec3 v_normal;\n"              \
+  "in vec4 v_color;"
 
 const char* const mesh_vertex = R"(#version 330 core
 layout(location = 0) in vec3 a_position;
@@ -26,10 +35,7 @@ void main() {
 }
 )";
 
-const char* const shade_fragment = R"(#version 330 core
-in vec3 v_position;
-in vec3 v_normal;
-in vec4 v_color;
+const char* const shade_fragment = SEGMESH_MESH_FRAGMENT_INPUTS R"(
 uniform vec3 u_base_color;     // linear
 uniform float u_metallic;
 uniform float u_roughness;
@@ -150,10 +156,7 @@ void main() {
 }
 )";
 
-const char* const normal_fragment = R"(#version 330 core
-in vec3 v_position;
-in vec3 v_normal;
-in vec4 v_color;
+const char* const normal_fragment = SEGMESH_MESH_FRAGMENT_INPUTS R"(
 layout(location = 0) out vec4 o_normal;
 void main() {
   vec3 n = normalize(gl_FrontFacing ? v_normal : -v_normal);
@@ -161,10 +164,7 @@ void main() {
 }
 )";
 
-const char* const id_fragment = R"(#version 330 core
-in vec3 v_position;
-in vec3 v_normal;
-in vec4 v_color;
+const char* const id_fragment = SEGMESH_MESH_FRAGMENT_INPUTS R"(
 uniform uint u_id;
 layout(location = 0) out uint o_id;
 void main() { o_id = u_id; }
@@ -285,5 +285,7 @@ void main() {
   o_color = vec4(linear_to_srgb(sum / float(u_samples * u_samples)), 1.0);
 }
 )";
+
+#undef SEGMESH_MESH_FRAGMENT_INPUTS
 
 }  // namespace segmesh::render::shaders

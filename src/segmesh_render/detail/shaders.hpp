@@ -1,4 +1,9 @@
-// The GLSL 3.30 core sources of the renderer's passes (renderer.hpp describes the frame).
+// The GLSL 3.30 core sources of the renderer's passes (renderer.hpp describes the frame), as
+// constant strings. Internal to segmesh_render: the renderer compiles and links them into its
+// programs once per Renderer; nothing here touches OpenGL.
+//
+// Guarantees: the mesh passes share one vertex shader (below) and the fragment shaders of those
+// passes declare its outputs from one definition, so every pass sees the same interface.
 #pragma once
 
 namespace segmesh::render::shaders {
