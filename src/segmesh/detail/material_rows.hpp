@@ -1,0 +1,87 @@
+// The parts of a label map as runs per row of voxels, each run tagged with its part's material
+// (the part's index in the scene + 1; material 0, the background, is everything not in a run),
+// for the multi-label extractor (multi_label_marching_cubes.hpp).
+//
+// What a row of cells needs from its four rows of voxels is where their materials change along
+// x; merging the four run lists gives it in one visit of each run end, so the interior of a large
+// bone costs nothing and no volume of materials is ever allocated (a uint16 material per voxel
+// would double the memory of a uint8 label map).
+//
+// The domain is the parts' common bounding box grown by one grid point on every side (the margin
+// that closes every surface), in local indices 0 .. dims - 1; grid() places it in the world.
+// Cost: O(runs) time and memory to build (a counting sort by row, then each row sorted by x).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "segmesh/components.hpp"
+#include "segmesh/grid.hpp"
+
+namespace segmesh {
+
+struct MaterialRun {
+  int32_t x_begin = 0, x_end = 0;  // local x of the first voxel and one past the last
+  uint32_t material = 0;
+};
+
+class MaterialRows {
+ public:
+  // `parts[p]` indexes components.components; part p gets material p + 1.
+  MaterialRows(const Grid& volume_grid, const Components& components,
+               std::span<const size_t> parts);
+
+  const std::array<int64_t, 3>& dims() const { return dims_; }
+  const Grid& grid() const { return grid_; }
+  bool empty() const { return runs_.empty(); }
+
+  // The runs of local row (j, k), x ascending (empty for the margin rows).
+  std::span<const MaterialRun> row(int64_t j, int64_t k) const {
+    if (j < 1 || k < 1 || j > dims_[1] - 2 || k > dims_[2] - 2) return {};
+    const size_t r = static_cast<size_t>((k - 1) * (dims_[1] - 2) + (j - 1));
+    return {runs_.data() + row_first_[r], runs_.data() + row_first_[r + 1]};
+  }
+
+  // Calls visit(s, t, materials) for consecutive intervals [s, t) covering [0, dims[0]) on which
+  // the materials of the N rows are constant; materials[n] is row n's.
+  template <size_t N, class Visit>
+  static void segments(int64_t nx, const std::array<std::span<const MaterialRun>, N>& rows,
+                       Visit&& visit) {
+    std::array<size_t, N> at{};
+    std::array<uint32_t, N> material{};
+    std::array<int64_t, N> next{};  // where row n's material changes next
+    for (size_t n = 0; n < N; ++n) next[n] = rows[n].empty() ? nx : rows[n][0].x_begin;
+    int64_t s = 0;
+    while (s < nx) {
+      int64_t t = nx;
+      for (size_t n = 0; n < N; ++n) t = next[n] < t ? next[n] : t;
+      if (t > s) visit(s, t, material);
+      if (t >= nx) break;
+      for (size_t n = 0; n < N; ++n) {
+        if (next[n] != t) continue;
+        const auto& runs = rows[n];
+        if (material[n] != 0 && runs[at[n]].x_end == t) {  // the run ends at t
+          ++at[n];
+          material[n] = 0;
+        }
+        if (at[n] < runs.size() && runs[at[n]].x_begin == t) {  // a run begins at t
+          material[n] = runs[at[n]].material;
+          next[n] = runs[at[n]].x_end;
+        } else {
+          next[n] = at[n] < runs.size() ? runs[at[n]].x_begin : nx;
+        }
+      }
+      s = t;
+    }
+  }
+
+ private:
+  std::array<int64_t, 3> dims_{};
+  Grid grid_;
+  std::vector<MaterialRun> runs_;
+  std::vector<size_t> row_first_;  // runs of inner row r: [row_first_[r], row_first_[r + 1])
+};
+
+}  // namespace segmesh

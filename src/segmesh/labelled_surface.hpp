@@ -1,0 +1,49 @@
+// LabelledSurface: the surface of every part of a label map at once, each contact between two
+// parts meshed once and shared by both ("atlas"), and the per-part shells cut from it.
+//
+// A triangle separates two materials: 0 is the background (everything no part holds), p + 1 is
+// the scene's part p. Each triangle records its (inside, outside) pair and is wound counter-
+// clockwise seen from its outside side, so its normal points from inside to outside. Where two
+// parts touch, their common surface is one set of triangles on one set of vertices; where three
+// or more materials meet (a junction curve: implant, bone and background along a plate's rim)
+// the triangles of the different pairs share the curve's vertices. The surface as a whole is not
+// a manifold (junction edges carry three or more triangles); each part's shell is.
+//
+// part_shells cuts one closed, edge-manifold, outward-wound mesh per part out of it: the part's
+// triangles, those where the part is outside turned around, on the part's vertices only. Where a
+// part's shell touches itself at a junction cell's centre (its material reaches the cell from two
+// sides), the shell gets one vertex per fan there, at the same position, so it stays a manifold.
+// Cost: O(vertices + triangles) time and the shells' memory.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "segmesh/tri_mesh.hpp"
+
+namespace segmesh {
+
+struct LabelledSurface {
+  TriMesh mesh;  // world millimetres, vertices shared between the parts
+  // Per triangle: {inside, outside} material (0 background, p + 1 part p).
+  std::vector<std::array<uint32_t, 2>> sides;
+  // The vertices at which a part's shell can touch itself (junction cells' centres), ascending.
+  std::vector<uint32_t> junction_vertices;
+  size_t part_count = 0;
+};
+
+// The closed shell of every part, in part order; vertex normals when the surface has them
+// (turned around with the triangles where the part is outside).
+std::vector<TriMesh> part_shells(const LabelledSurface& surface);
+
+// One pair of touching parts (materials a < b) and the area of their common surface.
+struct PartContact {
+  uint32_t a = 0, b = 0;
+  double area_mm2 = 0;
+};
+
+// The contacts between parts (not the background), ordered by (a, b).
+std::vector<PartContact> part_contacts(const LabelledSurface& surface);
+
+}  // namespace segmesh
