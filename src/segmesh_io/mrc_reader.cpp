@@ -8,8 +8,8 @@
 #include <sstream>
 #include <string>
 
-#include "segmesh_io/volume_checks.hpp"
-#include "segmesh_io/volume_data.hpp"
+#include "segmesh_io/detail/volume_checks.hpp"
+#include "segmesh_io/detail/volume_data.hpp"
 
 namespace segmesh::volume_io {
 

@@ -13,9 +13,9 @@
 #include <sstream>
 #include <string>
 
-#include "segmesh_io/volume_checks.hpp"
-#include "segmesh_io/volume_data.hpp"
-#include "segmesh_io/volume_itk.hpp"
+#include "segmesh_io/detail/volume_checks.hpp"
+#include "segmesh_io/detail/volume_data.hpp"
+#include "segmesh_io/detail/volume_itk.hpp"
 
 namespace segmesh::volume_io {
 

@@ -7,7 +7,7 @@
 #include <optional>
 #include <unordered_map>
 
-#include "segmesh_io/mesh_io_detail.hpp"
+#include "segmesh_io/detail/mesh_io_common.hpp"
 
 namespace segmesh {
 

@@ -1,8 +1,8 @@
 #include "segmesh_io/read_mesh.hpp"
 
+#include "segmesh_io/detail/mesh_io_common.hpp"
 #include "segmesh_io/gltf_reader.hpp"
 #include "segmesh_io/mesh_format.hpp"
-#include "segmesh_io/mesh_io_detail.hpp"
 #include "segmesh_io/obj_reader.hpp"
 #include "segmesh_io/ply_reader.hpp"
 #include "segmesh_io/stl_reader.hpp"

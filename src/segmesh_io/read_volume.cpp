@@ -8,12 +8,12 @@
 #include <new>
 #include <string>
 
+#include "segmesh_io/detail/volume_checks.hpp"
 #include "segmesh_io/dicom_series.hpp"
 #include "segmesh_io/metaimage_reader.hpp"
 #include "segmesh_io/mrc_reader.hpp"
 #include "segmesh_io/nifti_reader.hpp"
 #include "segmesh_io/nrrd_reader.hpp"
-#include "segmesh_io/volume_checks.hpp"
 
 namespace segmesh {
 

@@ -8,8 +8,8 @@
 #include <system_error>
 
 #include "segmesh_io/atomic_file.hpp"
+#include "segmesh_io/detail/mesh_io_common.hpp"
 #include "segmesh_io/gltf_writer.hpp"
-#include "segmesh_io/mesh_io_detail.hpp"
 #include "segmesh_io/obj_writer.hpp"
 #include "segmesh_io/ply_writer.hpp"
 #include "segmesh_io/stl_writer.hpp"

@@ -15,8 +15,8 @@
 
 #include "segmesh/error.hpp"
 #include "segmesh_io/atomic_file.hpp"
-#include "segmesh_io/volume_checks.hpp"
-#include "segmesh_io/volume_itk.hpp"
+#include "segmesh_io/detail/volume_checks.hpp"
+#include "segmesh_io/detail/volume_itk.hpp"
 
 namespace segmesh {
 

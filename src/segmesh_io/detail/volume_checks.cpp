@@ -1,4 +1,4 @@
-#include "segmesh_io/volume_checks.hpp"
+#include "segmesh_io/detail/volume_checks.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>

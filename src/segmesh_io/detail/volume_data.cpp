@@ -1,4 +1,4 @@
-#include "segmesh_io/volume_data.hpp"
+#include "segmesh_io/detail/volume_data.hpp"
 
 #include <fcntl.h>
 #include <libdeflate.h>
@@ -19,7 +19,7 @@
 #include <utility>
 
 #include "segmesh/first_touch.hpp"
-#include "segmesh_io/volume_checks.hpp"
+#include "segmesh_io/detail/volume_checks.hpp"
 
 namespace segmesh::volume_io {
 

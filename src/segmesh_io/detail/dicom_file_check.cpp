@@ -1,4 +1,4 @@
-#include "segmesh_io/dicom_file_check.hpp"
+#include "segmesh_io/detail/dicom_file_check.hpp"
 
 #include <fcntl.h>
 #include <sys/mman.h>

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "segmesh/error.hpp"
-#include "segmesh_io/volume_data.hpp"
+#include "segmesh_io/detail/volume_data.hpp"
 
 namespace segmesh::volume_io {
 namespace {

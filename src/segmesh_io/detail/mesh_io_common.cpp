@@ -1,4 +1,4 @@
-#include "segmesh_io/mesh_io_detail.hpp"
+#include "segmesh_io/detail/mesh_io_common.hpp"
 
 #include <algorithm>
 #include <charconv>

@@ -1,10 +1,10 @@
-#include "segmesh_io/volume_itk.hpp"
+#include "segmesh_io/detail/volume_itk.hpp"
 
 #include <itkImageIOBase.h>
 
 #include <sstream>
 
-#include "segmesh_io/volume_checks.hpp"
+#include "segmesh_io/detail/volume_checks.hpp"
 
 namespace segmesh::volume_io {
 
