@@ -6,6 +6,7 @@
 #include <type_traits>
 #include <nlohmann/json.hpp>
 
+#include "segmesh_io/detail/byte_order.hpp"
 #include "segmesh_io/detail/mesh_io_common.hpp"
 #include "segmesh_io/gltf_writer.hpp"
 

@@ -9,6 +9,8 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 
+#include "segmesh_io/detail/byte_order.hpp"
+
 namespace segmesh {
 
 using namespace mesh_io;

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <string>
 
+#include "segmesh_io/detail/byte_order.hpp"
 #include "segmesh_io/detail/volume_checks.hpp"
 #include "segmesh_io/detail/volume_data.hpp"
 

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "segmesh_io/detail/byte_order.hpp"
 #include "segmesh_io/detail/volume_checks.hpp"
 #include "segmesh_io/detail/volume_data.hpp"
 #include "segmesh_io/detail/volume_itk.hpp"

@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 
+#include "segmesh_io/detail/byte_order.hpp"
 #include "segmesh_io/detail/mesh_io_common.hpp"
 
 namespace segmesh {

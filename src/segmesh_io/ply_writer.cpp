@@ -5,6 +5,8 @@
 #include <cstring>
 #include <limits>
 
+#include "segmesh_io/detail/byte_order.hpp"
+
 namespace segmesh {
 
 using namespace mesh_io;

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <unordered_map>
 
+#include "segmesh_io/detail/byte_order.hpp"
 #include "segmesh_io/detail/mesh_io_common.hpp"
 
 namespace segmesh {

@@ -4,6 +4,8 @@
 #include <array>
 #include <limits>
 
+#include "segmesh_io/detail/byte_order.hpp"
+
 namespace segmesh {
 
 using namespace mesh_io;

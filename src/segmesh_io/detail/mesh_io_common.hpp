@@ -3,9 +3,7 @@
 #pragma once
 
 #include <array>
-#include <bit>
 #include <cstdint>
-#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -84,47 +82,6 @@ double tidy(float value);
 std::string one_line(std::string_view text);
 
 uint8_t to_unorm8(float value);
-
-// Little-endian binary I/O, independent of the host byte order.
-template <class T>
-T byteswap_value(T value) {
-  unsigned char bytes[sizeof(T)];
-  std::memcpy(bytes, &value, sizeof(T));
-  for (size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(bytes[i], bytes[sizeof(T) - 1 - i]);
-  std::memcpy(&value, bytes, sizeof(T));
-  return value;
-}
-
-template <class T>
-void append_le(std::string& out, T value) {
-  if constexpr (std::endian::native == std::endian::big) value = byteswap_value(value);
-  const size_t at = out.size();
-  out.resize(at + sizeof(T));
-  std::memcpy(out.data() + at, &value, sizeof(T));
-}
-
-template <class T>
-T load_le(const char* p) {
-  T value;
-  std::memcpy(&value, p, sizeof(T));
-  if constexpr (std::endian::native == std::endian::big) value = byteswap_value(value);
-  return value;
-}
-
-template <class T>
-T load_be(const char* p) {
-  T value;
-  std::memcpy(&value, p, sizeof(T));
-  if constexpr (std::endian::native == std::endian::little) value = byteswap_value(value);
-  return value;
-}
-
-template <class T>
-char* put_le(char* p, T value) {
-  if constexpr (std::endian::native == std::endian::big) value = byteswap_value(value);
-  std::memcpy(p, &value, sizeof(T));
-  return p + sizeof(T);
-}
 
 // A reusable byte buffer that writers fill through a raw cursor: room(n) guarantees n writable
 // bytes at the end, commit(p) makes everything up to p part of the contents.

@@ -173,18 +173,4 @@ void read_voxel_data(const std::filesystem::path& path, const std::filesystem::p
 void check_compressed_data(const std::filesystem::path& path, DataStream& data, uint64_t skip,
                            uint64_t needed);
 
-// The T stored at p (any alignment), byte-swapped first when swap_bytes.
-template <class T>
-T load_value(const void* p, bool swap_bytes) {
-  unsigned char bytes[sizeof(T)];
-  std::memcpy(bytes, p, sizeof(T));
-  if (swap_bytes) std::reverse(bytes, bytes + sizeof(T));
-  T value;
-  std::memcpy(&value, bytes, sizeof(T));
-  return value;
-}
-
-// Reorders bytes within each `size`-byte element, in place.
-void swap_bytes_inplace(void* data, size_t count, size_t size);
-
 }  // namespace segmesh::volume_io
