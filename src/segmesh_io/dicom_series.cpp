@@ -18,8 +18,8 @@
 
 #include "segmesh_io/detail/dicom_file_check.hpp"
 #include "segmesh_io/detail/volume_checks.hpp"
-#include "segmesh_io/detail/volume_data.hpp"
 #include "segmesh_io/detail/volume_itk.hpp"
+#include "segmesh_io/detail/voxel_sink.hpp"
 
 namespace segmesh::volume_io {
 

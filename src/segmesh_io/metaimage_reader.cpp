@@ -15,9 +15,10 @@
 #include <utility>
 #include <vector>
 
+#include "segmesh_io/detail/read_voxel_data.hpp"
 #include "segmesh_io/detail/volume_checks.hpp"
-#include "segmesh_io/detail/volume_data.hpp"
 #include "segmesh_io/detail/volume_itk.hpp"
+#include "segmesh_io/detail/voxel_sink.hpp"
 
 namespace segmesh::volume_io {
 

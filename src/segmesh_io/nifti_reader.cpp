@@ -12,9 +12,11 @@
 #include <vector>
 
 #include "segmesh_io/detail/byte_order.hpp"
+#include "segmesh_io/detail/data_stream.hpp"
+#include "segmesh_io/detail/read_voxel_data.hpp"
 #include "segmesh_io/detail/volume_checks.hpp"
-#include "segmesh_io/detail/volume_data.hpp"
 #include "segmesh_io/detail/volume_itk.hpp"
+#include "segmesh_io/detail/voxel_sink.hpp"
 
 namespace segmesh::volume_io {
 

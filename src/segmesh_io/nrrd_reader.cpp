@@ -13,9 +13,11 @@
 #include <sstream>
 #include <string>
 
+#include "segmesh_io/detail/data_stream.hpp"
+#include "segmesh_io/detail/read_voxel_data.hpp"
 #include "segmesh_io/detail/volume_checks.hpp"
-#include "segmesh_io/detail/volume_data.hpp"
 #include "segmesh_io/detail/volume_itk.hpp"
+#include "segmesh_io/detail/voxel_sink.hpp"
 
 namespace segmesh::volume_io {
 
@@ -130,7 +132,7 @@ std::optional<DataPlace> check_nrrd_data(const fs::path& path, const NrrdLayout&
     check_data_fits(path, needed, available, false);
     return DataPlace{source, layout.byte_skip < 0 ? size - needed : offset + byte_skip, false, 0};
   }
-  // The exact count comes from inflating, once, while decoding (volume_data.hpp).
+  // The exact count comes from inflating, once, while decoding (read_voxel_data.hpp).
   check_data_fits(path, needed + byte_skip, stored, true);
   return DataPlace{source, offset, true, byte_skip};
 }

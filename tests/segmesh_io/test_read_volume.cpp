@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "segmesh_io/detail/volume_data.hpp"
 #include "segmesh_io/read_volume.hpp"
 #include "support/test_support.hpp"
 #include "volume_test_support.hpp"
