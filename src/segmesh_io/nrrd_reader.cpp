@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <cctype>
 #include <charconv>
 #include <fstream>
 #include <optional>
@@ -15,6 +14,7 @@
 
 #include "segmesh_io/detail/data_stream.hpp"
 #include "segmesh_io/detail/read_voxel_data.hpp"
+#include "segmesh_io/detail/text.hpp"
 #include "segmesh_io/detail/volume_checks.hpp"
 #include "segmesh_io/detail/volume_itk.hpp"
 #include "segmesh_io/detail/voxel_sink.hpp"
@@ -24,13 +24,6 @@ namespace segmesh::volume_io {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string trim(std::string_view text) {
-  const auto first = text.find_first_not_of(" \t\r\n");
-  if (first == std::string_view::npos) return {};
-  const auto last = text.find_last_not_of(" \t\r\n");
-  return std::string(text.substr(first, last - first + 1));
-}
 
 // Where a NRRD's data bytes are and how they are encoded (the fields ITK does not report).
 struct NrrdLayout {
@@ -53,7 +46,7 @@ NrrdLayout scan_layout(const fs::path& path) {
   bool blank_line = false;
   while (std::getline(file, line)) {
     position += line.size() + 1;
-    const std::string text = trim(line);
+    const std::string text(trim(line));
     if (text.empty()) {
       blank_line = true;
       break;
@@ -61,18 +54,14 @@ NrrdLayout scan_layout(const fs::path& path) {
     if (text[0] == '#') continue;
     const auto colon = text.find(':');
     if (colon == std::string::npos || (colon + 1 < text.size() && text[colon + 1] == '=')) continue;
-    std::string field = text.substr(0, colon);
-    std::transform(field.begin(), field.end(), field.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
+    std::string field = lower(text.substr(0, colon));
     field.erase(std::remove(field.begin(), field.end(), ' '), field.end());
-    const std::string value = trim(std::string_view(text).substr(colon + 1));
+    const std::string value(trim(std::string_view(text).substr(colon + 1)));
     try {
       if (field == "encoding") layout.encoding = value;
       if (field == "datafile") layout.data_file = value;
       if (field == "endian") {
-        layout.endian = value;
-        std::transform(layout.endian.begin(), layout.endian.end(), layout.endian.begin(),
-                       [](unsigned char c) { return char(std::tolower(c)); });
+        layout.endian = lower(value);
       }
       if (field == "lineskip") layout.line_skip = std::stoll(value);
       if (field == "byteskip") layout.byte_skip = std::stoll(value);
@@ -143,7 +132,7 @@ std::optional<std::string> dictionary_value(const itk::MetaDataDictionary& dicti
   if (!dictionary.HasKey(key) || !itk::ExposeMetaData<std::string>(dictionary, key, value)) {
     return std::nullopt;
   }
-  return trim(value);
+  return std::string(trim(value));
 }
 
 struct Segments {

@@ -9,6 +9,7 @@
 
 #include "segmesh_io/atomic_file.hpp"
 #include "segmesh_io/detail/mesh_io_common.hpp"
+#include "segmesh_io/detail/text.hpp"
 #include "segmesh_io/gltf_writer.hpp"
 #include "segmesh_io/obj_writer.hpp"
 #include "segmesh_io/ply_writer.hpp"
@@ -87,11 +88,6 @@ std::string file_stem_for(const std::string& part_name) {
   if (s.size() > 100) s.resize(100);
   while (!s.empty() && s.back() == '.') s.pop_back();
   return s.empty() ? "part" : s;
-}
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 
 #include "segmesh_io/detail/byte_order.hpp"
 #include "segmesh_io/detail/mapped_file.hpp"
+#include "segmesh_io/detail/text.hpp"
 
 namespace segmesh::volume_io {
 
@@ -241,12 +242,6 @@ struct Walker {
   }
 };
 
-std::string trimmed(const unsigned char* p, size_t n) {
-  std::string s(reinterpret_cast<const char*>(p), n);
-  while (!s.empty() && (s.back() == '\0' || s.back() == ' ')) s.pop_back();
-  return s;
-}
-
 DicomFileCheck finish(Walker& w) {
   if (!w.pixel_data) return {DicomFileStatus::not_image, "no pixel data"};
   if (!w.format_error.empty()) return {DicomFileStatus::broken, w.format_error};
@@ -335,7 +330,10 @@ DicomFileCheck check_dicom_file(const std::filesystem::path& file) {
         return {DicomFileStatus::broken, "truncated: the file meta element " + tag_text(2, element) +
                                              " runs past the end of the file"};
       }
-      if (element == 0x0010) transfer_syntax = trimmed(bytes + pos + header, length);
+      if (element == 0x0010) {  // UI values are padded with a NUL, some writers use a space
+        const std::string_view value(reinterpret_cast<const char*>(bytes + pos + header), length);
+        transfer_syntax = std::string(trim_end(value, std::string_view("\0 ", 2)));
+      }
       end = pos + header + length;
     }
     pos = end;
