@@ -39,19 +39,19 @@ void write_to(const PartList& parts, const fs::path& file, MeshFormat format, co
     files.push_back(std::make_unique<AtomicFile>(target));
     return *files.back();
   };
+  // Formats of one file: write, then finish it.
+  const auto write_one = [&](const auto& write) {
+    AtomicFile& f = open(file);
+    write(f.stream());
+    finish(f);
+  };
   switch (format) {
-    case MeshFormat::stl: {
-      AtomicFile& f = open(file);
-      write_stl(parts, f.stream(), name);
-      finish(f);
+    case MeshFormat::stl:
+      write_one([&](std::ostream& out) { write_stl(parts, out, name); });
       break;
-    }
-    case MeshFormat::ply: {
-      AtomicFile& f = open(file);
-      write_ply(parts, f.stream());
-      finish(f);
+    case MeshFormat::ply:
+      write_one([&](std::ostream& out) { write_ply(parts, out); });
       break;
-    }
     case MeshFormat::obj: {
       fs::path mtl_path = file;
       mtl_path.replace_extension(".mtl");
@@ -66,12 +66,9 @@ void write_to(const PartList& parts, const fs::path& file, MeshFormat format, co
       finish(obj);
       break;
     }
-    case MeshFormat::glb: {
-      AtomicFile& f = open(file);
-      write_glb(parts, f.stream());
-      finish(f);
+    case MeshFormat::glb:
+      write_one([&](std::ostream& out) { write_glb(parts, out); });
       break;
-    }
   }
 }
 
