@@ -352,11 +352,9 @@ Image read_metaimage(const fs::path& path, const ReadOptions& options) {
                                data_file + ") is not supported; convert it to a single .mha");
   }
 
-  if (lower(data_file) != "local") {  // before ITK opens it (a pipe would block)
-    fs::path source = data_file;
-    if (source.is_relative()) source = path.parent_path() / source;
-    check_data_file(path, source);
-  }
+  // A detached data file is checked before ITK opens it (a pipe would block).
+  const bool detached = lower(data_file) != "local";
+  const fs::path source = detached ? detached_data_file(path, data_file) : path;
   auto io = itk::MetaImageIO::New();
   const ItkHeader header = read_itk_header(*io, path);
   const std::array<int64_t, 3> dims = check_dims(path, header.dims);
@@ -370,12 +368,8 @@ Image read_metaimage(const fs::path& path, const ReadOptions& options) {
   const uint64_t count = header.grid.voxel_count();
   const uint64_t needed = count * voxel_type_size(*type);
   const bool compressed = meta.flag("CompressedData");
-  fs::path source = path;
   uint64_t offset = meta.data_offset;
-  if (lower(data_file) != "local") {
-    source = fs::path(data_file);
-    if (source.is_relative()) source = path.parent_path() / source;
-    check_data_file(path, source);
+  if (detached) {
     const int64_t header_size = integer_field(meta, "HeaderSize", 0);
     const uint64_t size = size_of_file(source);
     // HeaderSize -1: the data are the file's last bytes.

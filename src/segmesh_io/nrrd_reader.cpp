@@ -77,6 +77,11 @@ NrrdLayout scan_layout(const fs::path& path) {
   return layout;
 }
 
+// "data file: LIST" and %-patterns name several detached files.
+bool names_several_files(const std::string& data_file) {
+  return data_file.rfind("LIST", 0) == 0 || data_file.find('%') != std::string::npos;
+}
+
 // Where raw or gzip data in this file or one detached file begin.
 struct DataPlace {
   fs::path source;
@@ -92,16 +97,13 @@ std::optional<DataPlace> check_nrrd_data(const fs::path& path, const NrrdLayout&
                                          uint64_t needed) {
   const bool gzip = layout.encoding == "gzip" || layout.encoding == "gz";
   if (!(gzip || layout.encoding == "raw")) return std::nullopt;
-  if (layout.data_file.rfind("LIST", 0) == 0 || layout.data_file.find('%') != std::string::npos)
-    return std::nullopt;
+  if (names_several_files(layout.data_file)) return std::nullopt;
 
   fs::path source = path;
   uint64_t offset = layout.header_end;
   if (!layout.data_file.empty()) {
-    source = fs::path(layout.data_file);
-    if (source.is_relative()) source = path.parent_path() / source;
+    source = detached_data_file(path, layout.data_file);
     offset = 0;
-    check_data_file(path, source);
   }
   if (layout.line_skip > 0) {
     std::ifstream file(source, std::ios::binary);
@@ -196,11 +198,8 @@ Image read_nrrd(const fs::path& path, const ReadOptions& options) {
   // ITK opens a detached data file while reading the header: a named pipe there would block
   // forever, a device never end. One detached file is checked first (LIST and %-patterns name
   // several; ITK checks those).
-  if (!layout.data_file.empty() && layout.data_file.rfind("LIST", 0) != 0 &&
-      layout.data_file.find('%') == std::string::npos) {
-    fs::path source = layout.data_file;
-    if (source.is_relative()) source = path.parent_path() / source;
-    check_data_file(path, source);
+  if (!layout.data_file.empty() && !names_several_files(layout.data_file)) {
+    detached_data_file(path, layout.data_file);
   }
   auto io = itk::NrrdImageIO::New();
   const ItkHeader header = read_itk_header(*io, path);

@@ -144,6 +144,13 @@ void check_data_file(const fs::path& header, const fs::path& data) {
   ::close(fd);
 }
 
+fs::path detached_data_file(const fs::path& header, const std::string& name) {
+  fs::path data = name;
+  if (data.is_relative()) data = header.parent_path() / data;
+  check_data_file(header, data);
+  return data;
+}
+
 uint64_t size_of_file(const fs::path& path) {
   std::error_code ec;
   const uintmax_t size = fs::file_size(path, ec);
