@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -16,10 +15,11 @@
 #include <string>
 #include <vector>
 
-#include "segmesh_io/dicom_file_check.hpp"
-#include "segmesh_io/volume_checks.hpp"
-#include "segmesh_io/volume_data.hpp"
-#include "segmesh_io/volume_itk.hpp"
+#include "segmesh_io/detail/dicom_file_check.hpp"
+#include "segmesh_io/detail/text.hpp"
+#include "segmesh_io/detail/volume_checks.hpp"
+#include "segmesh_io/detail/volume_itk.hpp"
+#include "segmesh_io/detail/voxel_sink.hpp"
 
 namespace segmesh::volume_io {
 
@@ -83,9 +83,7 @@ std::string number_text(double value) {
 }
 
 bool has_dicom_extension(const fs::path& file) {
-  std::string ext = file.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string ext = lower(file.extension().string());
   return ext == ".dcm" || ext == ".dicom" || ext == ".ima";
 }
 

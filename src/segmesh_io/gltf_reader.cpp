@@ -6,8 +6,9 @@
 #include <type_traits>
 #include <nlohmann/json.hpp>
 
+#include "segmesh_io/detail/byte_order.hpp"
+#include "segmesh_io/detail/mesh_io_common.hpp"
 #include "segmesh_io/gltf_writer.hpp"
-#include "segmesh_io/mesh_io_detail.hpp"
 
 namespace segmesh {
 

@@ -9,6 +9,9 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 
+#include "segmesh_io/detail/byte_order.hpp"
+#include "segmesh_io/detail/piece_writer.hpp"
+
 namespace segmesh {
 
 using namespace mesh_io;

@@ -24,7 +24,7 @@
 
 #include <ostream>
 
-#include "segmesh_io/mesh_io_detail.hpp"
+#include "segmesh_io/detail/mesh_io_common.hpp"
 
 namespace segmesh {
 

@@ -9,19 +9,13 @@
 #include <string_view>
 
 #include "segmesh/error.hpp"
+#include "segmesh_io/detail/text.hpp"
 
 namespace segmesh {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string_view trim(std::string_view text) {
-  const auto first = text.find_first_not_of(" \t\r");
-  if (first == std::string_view::npos) return {};
-  const auto last = text.find_last_not_of(" \t\r");
-  return text.substr(first, last - first + 1);
-}
 
 std::vector<std::string_view> split_tabs(std::string_view line) {
   std::vector<std::string_view> fields;

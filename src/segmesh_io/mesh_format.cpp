@@ -1,20 +1,18 @@
 #include "segmesh_io/mesh_format.hpp"
 
-#include <algorithm>
-#include <cctype>
 #include <string>
+
+#include "segmesh_io/detail/text.hpp"
 
 namespace segmesh {
 
 std::optional<MeshFormat> parse_mesh_format(std::string_view name) {
   if (!name.empty() && name.front() == '.') name.remove_prefix(1);
-  std::string lower(name);
-  std::transform(lower.begin(), lower.end(), lower.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (lower == "stl") return MeshFormat::stl;
-  if (lower == "ply") return MeshFormat::ply;
-  if (lower == "obj") return MeshFormat::obj;
-  if (lower == "glb") return MeshFormat::glb;
+  const std::string format = lower(std::string(name));
+  if (format == "stl") return MeshFormat::stl;
+  if (format == "ply") return MeshFormat::ply;
+  if (format == "obj") return MeshFormat::obj;
+  if (format == "glb") return MeshFormat::glb;
   return std::nullopt;
 }
 

@@ -15,28 +15,17 @@
 #include <utility>
 #include <vector>
 
-#include "segmesh_io/volume_checks.hpp"
-#include "segmesh_io/volume_data.hpp"
-#include "segmesh_io/volume_itk.hpp"
+#include "segmesh_io/detail/read_voxel_data.hpp"
+#include "segmesh_io/detail/text.hpp"
+#include "segmesh_io/detail/volume_checks.hpp"
+#include "segmesh_io/detail/volume_itk.hpp"
+#include "segmesh_io/detail/voxel_sink.hpp"
 
 namespace segmesh::volume_io {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string trim(std::string_view text) {
-  const auto first = text.find_first_not_of(" \t\r\n");
-  if (first == std::string_view::npos) return {};
-  const auto last = text.find_last_not_of(" \t\r\n");
-  return std::string(text.substr(first, last - first + 1));
-}
-
-std::string lower(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
-  return text;
-}
 
 // A header value as it may appear in a one-line message: control and non-ASCII bytes become '?',
 // long values are cut.
@@ -149,7 +138,7 @@ MetaHeader parse_header(const fs::path& path) {
     while (!name.empty() && (name.back() == ' ' || name.back() == '\t')) name.remove_suffix(1);
     auto value_start = text.find_first_not_of("=: \t", separator);
     if (value_start == std::string_view::npos) value_start = text.size();
-    const std::string value = trim(text.substr(value_start));
+    const std::string value(trim(text.substr(value_start)));
     // MetaIO copies field names into 255-byte buffers and values into 255 doubles without
     // checking (fuzz_mha: a fortify abort in MET_InitReadField): longer ones are refused here.
     if (name.size() > 100 || value.size() > 1000) {
@@ -194,7 +183,7 @@ MetaHeader parse_header(const fs::path& path) {
 // A number as `istream >> double` reads it whole and std::from_chars can convert it: an optional
 // sign, digits with at most one decimal point, an optional exponent ("inf", "nan" and hexadecimal
 // are not numbers to MetaIO). `whole`: digits only.
-std::optional<double> parse_number(std::string_view token, bool whole) {
+std::optional<double> metaio_number(std::string_view token, bool whole) {
   size_t i = 0;
   const auto digits = [&] {
     const size_t begin = i;
@@ -231,7 +220,7 @@ std::optional<std::vector<double>> parse_numbers(std::string_view value, bool wh
     i = value.find_first_not_of(" \t\r\v\f", i);
     if (i == std::string_view::npos) return numbers;
     const size_t end = std::min(value.find_first_of(" \t\r\v\f", i), value.size());
-    const std::optional<double> number = parse_number(value.substr(i, end - i), whole);
+    const std::optional<double> number = metaio_number(value.substr(i, end - i), whole);
     if (!number) return std::nullopt;
     numbers.push_back(*number);
     i = end;
@@ -363,11 +352,9 @@ Image read_metaimage(const fs::path& path, const ReadOptions& options) {
                                data_file + ") is not supported; convert it to a single .mha");
   }
 
-  if (lower(data_file) != "local") {  // before ITK opens it (a pipe would block)
-    fs::path source = data_file;
-    if (source.is_relative()) source = path.parent_path() / source;
-    check_data_file(path, source);
-  }
+  // A detached data file is checked before ITK opens it (a pipe would block).
+  const bool detached = lower(data_file) != "local";
+  const fs::path source = detached ? detached_data_file(path, data_file) : path;
   auto io = itk::MetaImageIO::New();
   const ItkHeader header = read_itk_header(*io, path);
   const std::array<int64_t, 3> dims = check_dims(path, header.dims);
@@ -381,12 +368,8 @@ Image read_metaimage(const fs::path& path, const ReadOptions& options) {
   const uint64_t count = header.grid.voxel_count();
   const uint64_t needed = count * voxel_type_size(*type);
   const bool compressed = meta.flag("CompressedData");
-  fs::path source = path;
   uint64_t offset = meta.data_offset;
-  if (lower(data_file) != "local") {
-    source = fs::path(data_file);
-    if (source.is_relative()) source = path.parent_path() / source;
-    check_data_file(path, source);
+  if (detached) {
     const int64_t header_size = integer_field(meta, "HeaderSize", 0);
     const uint64_t size = size_of_file(source);
     // HeaderSize -1: the data are the file's last bytes.

@@ -8,8 +8,11 @@
 #include <sstream>
 #include <string>
 
-#include "segmesh_io/volume_checks.hpp"
-#include "segmesh_io/volume_data.hpp"
+#include "segmesh_io/detail/byte_order.hpp"
+#include "segmesh_io/detail/data_stream.hpp"
+#include "segmesh_io/detail/read_voxel_data.hpp"
+#include "segmesh_io/detail/volume_checks.hpp"
+#include "segmesh_io/detail/voxel_sink.hpp"
 
 namespace segmesh::volume_io {
 
@@ -178,8 +181,7 @@ Image read_mrc(const fs::path& path, const ReadOptions& options) {
   check_data_fits(path, needed, size_on_disk > offset ? size_on_disk - offset : 0, false);
 
   VoxelSink sink(path, count, type);
-  DataStream data(path, offset, false);
-  read_voxels(path, data, count, type, h.swapped, sink);
+  read_voxel_data(path, path, offset, false, 0, count, type, h.swapped, sink);
   auto volume = std::move(sink).finish(grid);
   if (h.axis != std::array<int32_t, 3>{1, 2, 3}) {
     std::visit([&](auto& v) { v.voxels = to_xyz_order(v.voxels, h.n, h.axis, dims); }, volume);

@@ -11,9 +11,12 @@
 #include <string>
 #include <vector>
 
-#include "segmesh_io/volume_checks.hpp"
-#include "segmesh_io/volume_data.hpp"
-#include "segmesh_io/volume_itk.hpp"
+#include "segmesh_io/detail/byte_order.hpp"
+#include "segmesh_io/detail/data_stream.hpp"
+#include "segmesh_io/detail/read_voxel_data.hpp"
+#include "segmesh_io/detail/volume_checks.hpp"
+#include "segmesh_io/detail/volume_itk.hpp"
+#include "segmesh_io/detail/voxel_sink.hpp"
 
 namespace segmesh::volume_io {
 
@@ -58,6 +61,41 @@ struct HeaderBytes {
   }
 };
 
+// Where the fields are: NIfTI-1 and NIfTI-2 hold the same fields at other offsets, in wider types.
+struct FieldOffsets {
+  size_t dim, datatype, bitpix, pixdim, vox_offset, scl_slope, scl_inter, qform_code, sform_code,
+      quatern, qoffset, srow;
+};
+constexpr FieldOffsets kNifti1Fields{40, 70, 72, 76, 108, 112, 116, 252, 254, 256, 268, 280};
+constexpr FieldOffsets kNifti2Fields{16, 12, 14, 104, 168, 176, 184, 344, 348, 352, 376, 400};
+
+// Reads the fields found `at` into `h`: dim[] as Dim, the real-valued fields as Real,
+// qform_code and sform_code as Code, vox_offset as Offset (datatype and bitpix are int16 in both
+// versions). Returns dim[0]; dims are read only when it is 1 to 7.
+template <class Dim, class Real, class Code, class Offset>
+int64_t read_fields(const HeaderBytes& b, const FieldOffsets& at, NiftiHeader& h) {
+  const int64_t ndim = b.get<Dim>(at.dim);
+  if (ndim >= 1 && ndim <= 7) {
+    for (int64_t axis = 1; axis <= ndim; ++axis) {
+      h.dims.push_back(b.get<Dim>(at.dim + sizeof(Dim) * size_t(axis)));
+    }
+  }
+  h.datatype = b.get<int16_t>(at.datatype);
+  h.bitpix = b.get<int16_t>(at.bitpix);
+  for (int i = 0; i < 8; ++i) h.pixdim[i] = b.get<Real>(at.pixdim + sizeof(Real) * i);
+  h.vox_offset = static_cast<double>(b.get<Offset>(at.vox_offset));
+  h.scl_slope = b.get<Real>(at.scl_slope);
+  h.scl_inter = b.get<Real>(at.scl_inter);
+  h.qform_code = b.get<Code>(at.qform_code);
+  h.sform_code = b.get<Code>(at.sform_code);
+  for (int i = 0; i < 3; ++i) {
+    h.quatern[i] = b.get<Real>(at.quatern + sizeof(Real) * i);
+    h.qoffset[i] = b.get<Real>(at.qoffset + sizeof(Real) * i);
+    for (int j = 0; j < 4; ++j) h.srow[i][j] = b.get<Real>(at.srow + sizeof(Real) * (4 * i + j));
+  }
+  return ndim;
+}
+
 NiftiHeader parse_header(const fs::path& path, const unsigned char* bytes, size_t size) {
   NiftiHeader h;
   const auto sizeof_hdr = load_value<int32_t>(bytes, false);
@@ -84,23 +122,7 @@ NiftiHeader parse_header(const fs::path& path, const unsigned char* bytes, size_
     if (std::memcmp(bytes + 344, "n+1\0", 4) != 0) {
       throw file_error(path, "not a NIfTI-1 file (the magic string \"n+1\" is missing)");
     }
-    ndim = b.get<int16_t>(40);
-    if (ndim >= 1 && ndim <= 7) {
-      for (int64_t axis = 1; axis <= ndim; ++axis) h.dims.push_back(b.get<int16_t>(40 + 2 * axis));
-    }
-    h.datatype = b.get<int16_t>(70);
-    h.bitpix = b.get<int16_t>(72);
-    for (int i = 0; i < 8; ++i) h.pixdim[i] = b.get<float>(76 + 4 * i);
-    h.vox_offset = b.get<float>(108);
-    h.scl_slope = b.get<float>(112);
-    h.scl_inter = b.get<float>(116);
-    h.qform_code = b.get<int16_t>(252);
-    h.sform_code = b.get<int16_t>(254);
-    for (int i = 0; i < 3; ++i) {
-      h.quatern[i] = b.get<float>(256 + 4 * i);
-      h.qoffset[i] = b.get<float>(268 + 4 * i);
-      for (int j = 0; j < 4; ++j) h.srow[i][j] = b.get<float>(280 + 16 * i + 4 * j);
-    }
+    ndim = read_fields<int16_t, float, int16_t, float>(b, kNifti1Fields, h);
   } else {
     if (std::memcmp(bytes + 4, "n+2\0", 4) != 0) {
       throw file_error(path, std::memcmp(bytes + 4, "ni2\0", 4) == 0
@@ -108,23 +130,7 @@ NiftiHeader parse_header(const fs::path& path, const unsigned char* bytes, size_
                                    "which is not supported; convert it to a single .nii.gz"
                                  : "not a NIfTI-2 file (the magic string \"n+2\" is missing)");
     }
-    ndim = b.get<int64_t>(16);
-    if (ndim >= 1 && ndim <= 7) {
-      for (int64_t axis = 1; axis <= ndim; ++axis) h.dims.push_back(b.get<int64_t>(16 + 8 * axis));
-    }
-    h.datatype = b.get<int16_t>(12);
-    h.bitpix = b.get<int16_t>(14);
-    for (int i = 0; i < 8; ++i) h.pixdim[i] = b.get<double>(104 + 8 * i);
-    h.vox_offset = static_cast<double>(b.get<int64_t>(168));
-    h.scl_slope = b.get<double>(176);
-    h.scl_inter = b.get<double>(184);
-    h.qform_code = b.get<int32_t>(344);
-    h.sform_code = b.get<int32_t>(348);
-    for (int i = 0; i < 3; ++i) {
-      h.quatern[i] = b.get<double>(352 + 8 * i);
-      h.qoffset[i] = b.get<double>(376 + 8 * i);
-      for (int j = 0; j < 4; ++j) h.srow[i][j] = b.get<double>(400 + 32 * i + 8 * j);
-    }
+    ndim = read_fields<int64_t, double, int32_t, int64_t>(b, kNifti2Fields, h);
   }
   if (ndim < 1 || ndim > 7) {
     throw file_error(path, "the header's dim[0] is " + std::to_string(ndim) +

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <cctype>
 #include <charconv>
 #include <fstream>
 #include <optional>
@@ -13,22 +12,18 @@
 #include <sstream>
 #include <string>
 
-#include "segmesh_io/volume_checks.hpp"
-#include "segmesh_io/volume_data.hpp"
-#include "segmesh_io/volume_itk.hpp"
+#include "segmesh_io/detail/data_stream.hpp"
+#include "segmesh_io/detail/read_voxel_data.hpp"
+#include "segmesh_io/detail/text.hpp"
+#include "segmesh_io/detail/volume_checks.hpp"
+#include "segmesh_io/detail/volume_itk.hpp"
+#include "segmesh_io/detail/voxel_sink.hpp"
 
 namespace segmesh::volume_io {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string trim(std::string_view text) {
-  const auto first = text.find_first_not_of(" \t\r\n");
-  if (first == std::string_view::npos) return {};
-  const auto last = text.find_last_not_of(" \t\r\n");
-  return std::string(text.substr(first, last - first + 1));
-}
 
 // Where a NRRD's data bytes are and how they are encoded (the fields ITK does not report).
 struct NrrdLayout {
@@ -51,7 +46,7 @@ NrrdLayout scan_layout(const fs::path& path) {
   bool blank_line = false;
   while (std::getline(file, line)) {
     position += line.size() + 1;
-    const std::string text = trim(line);
+    const std::string text(trim(line));
     if (text.empty()) {
       blank_line = true;
       break;
@@ -59,18 +54,14 @@ NrrdLayout scan_layout(const fs::path& path) {
     if (text[0] == '#') continue;
     const auto colon = text.find(':');
     if (colon == std::string::npos || (colon + 1 < text.size() && text[colon + 1] == '=')) continue;
-    std::string field = text.substr(0, colon);
-    std::transform(field.begin(), field.end(), field.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
+    std::string field = lower(text.substr(0, colon));
     field.erase(std::remove(field.begin(), field.end(), ' '), field.end());
-    const std::string value = trim(std::string_view(text).substr(colon + 1));
+    const std::string value(trim(std::string_view(text).substr(colon + 1)));
     try {
       if (field == "encoding") layout.encoding = value;
       if (field == "datafile") layout.data_file = value;
       if (field == "endian") {
-        layout.endian = value;
-        std::transform(layout.endian.begin(), layout.endian.end(), layout.endian.begin(),
-                       [](unsigned char c) { return char(std::tolower(c)); });
+        layout.endian = lower(value);
       }
       if (field == "lineskip") layout.line_skip = std::stoll(value);
       if (field == "byteskip") layout.byte_skip = std::stoll(value);
@@ -84,6 +75,11 @@ NrrdLayout scan_layout(const fs::path& path) {
     throw file_error(path, "the NRRD header names no data file and has no data after it");
   }
   return layout;
+}
+
+// "data file: LIST" and %-patterns name several detached files.
+bool names_several_files(const std::string& data_file) {
+  return data_file.rfind("LIST", 0) == 0 || data_file.find('%') != std::string::npos;
 }
 
 // Where raw or gzip data in this file or one detached file begin.
@@ -101,16 +97,13 @@ std::optional<DataPlace> check_nrrd_data(const fs::path& path, const NrrdLayout&
                                          uint64_t needed) {
   const bool gzip = layout.encoding == "gzip" || layout.encoding == "gz";
   if (!(gzip || layout.encoding == "raw")) return std::nullopt;
-  if (layout.data_file.rfind("LIST", 0) == 0 || layout.data_file.find('%') != std::string::npos)
-    return std::nullopt;
+  if (names_several_files(layout.data_file)) return std::nullopt;
 
   fs::path source = path;
   uint64_t offset = layout.header_end;
   if (!layout.data_file.empty()) {
-    source = fs::path(layout.data_file);
-    if (source.is_relative()) source = path.parent_path() / source;
+    source = detached_data_file(path, layout.data_file);
     offset = 0;
-    check_data_file(path, source);
   }
   if (layout.line_skip > 0) {
     std::ifstream file(source, std::ios::binary);
@@ -130,7 +123,7 @@ std::optional<DataPlace> check_nrrd_data(const fs::path& path, const NrrdLayout&
     check_data_fits(path, needed, available, false);
     return DataPlace{source, layout.byte_skip < 0 ? size - needed : offset + byte_skip, false, 0};
   }
-  // The exact count comes from inflating, once, while decoding (volume_data.hpp).
+  // The exact count comes from inflating, once, while decoding (read_voxel_data.hpp).
   check_data_fits(path, needed + byte_skip, stored, true);
   return DataPlace{source, offset, true, byte_skip};
 }
@@ -141,7 +134,7 @@ std::optional<std::string> dictionary_value(const itk::MetaDataDictionary& dicti
   if (!dictionary.HasKey(key) || !itk::ExposeMetaData<std::string>(dictionary, key, value)) {
     return std::nullopt;
   }
-  return trim(value);
+  return std::string(trim(value));
 }
 
 struct Segments {
@@ -205,11 +198,8 @@ Image read_nrrd(const fs::path& path, const ReadOptions& options) {
   // ITK opens a detached data file while reading the header: a named pipe there would block
   // forever, a device never end. One detached file is checked first (LIST and %-patterns name
   // several; ITK checks those).
-  if (!layout.data_file.empty() && layout.data_file.rfind("LIST", 0) != 0 &&
-      layout.data_file.find('%') == std::string::npos) {
-    fs::path source = layout.data_file;
-    if (source.is_relative()) source = path.parent_path() / source;
-    check_data_file(path, source);
+  if (!layout.data_file.empty() && !names_several_files(layout.data_file)) {
+    detached_data_file(path, layout.data_file);
   }
   auto io = itk::NrrdImageIO::New();
   const ItkHeader header = read_itk_header(*io, path);

@@ -7,35 +7,14 @@
 #include <optional>
 #include <unordered_map>
 
-#include "segmesh_io/mesh_io_detail.hpp"
+#include "segmesh_io/detail/mesh_io_common.hpp"
+#include "segmesh_io/detail/text.hpp"
 
 namespace segmesh {
 
 using namespace mesh_io;
 
 namespace {
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-  return s;
-}
-
-std::string_view next_word(std::string_view& s) {
-  s = trim(s);
-  size_t n = 0;
-  while (n < s.size() && !std::isspace(static_cast<unsigned char>(s[n]))) ++n;
-  const std::string_view word = s.substr(0, n);
-  s.remove_prefix(n);
-  return word;
-}
-
-template <class T>
-bool parse_number(std::string_view s, T& out) {
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  const auto r = std::from_chars(s.data(), s.data() + s.size(), out);
-  return !s.empty() && r.ec == std::errc() && r.ptr == s.data() + s.size();
-}
 
 // Calls fn(line_number, line) for each line, without the line break.
 template <class Fn>
@@ -58,7 +37,7 @@ void read_mtl(const std::filesystem::path& mtl_file, std::map<std::string, Mater
     std::string_view rest = line;
     const std::string_view key = next_word(rest);
     if (key == "newmtl") {
-      current = &(out[std::string(trim(rest))] = neutral_material());
+      current = &(out[std::string(trim(rest, kWhiteSpace))] = neutral_material());
       return;
     }
     if (!current) return;
@@ -114,7 +93,7 @@ void renumber_in_file_order(PendingPart& pp) {
 Scene read_obj(std::string_view bytes, const std::filesystem::path& file) {
   bool has_o = false;
   for_each_line(bytes, [&](size_t, std::string_view line) {
-    line = trim(line);
+    line = trim(line, kWhiteSpace);
     if (line.size() >= 2 && line[0] == 'o' && std::isspace(static_cast<unsigned char>(line[1]))) has_o = true;
   });
 
@@ -164,7 +143,7 @@ Scene read_obj(std::string_view bytes, const std::filesystem::path& file) {
   for_each_line(bytes, [&](size_t line_no, std::string_view line) {
     const auto error = [&](const std::string& what) {
       fail(file, "line " + std::to_string(line_no) + ": " + what + " ('" +
-                     one_line(trim(line).substr(0, 60)) + "')");
+                     one_line(trim(line, kWhiteSpace).substr(0, 60)) + "')");
     };
     std::string_view rest = line;
     const std::string_view key = next_word(rest);
@@ -235,15 +214,15 @@ Scene read_obj(std::string_view bytes, const std::filesystem::path& file) {
       }
       if (corners < 3) error("a face needs at least 3 corners");
     } else if (key == "o" || (key == "g" && !has_o)) {
-      start(one_line(trim(rest)));
+      start(one_line(trim(rest, kWhiteSpace)));
     } else if (key == "usemtl") {
       if (!current) start(std::string());
       if (!current->has_material) {
-        current->material = std::string(trim(rest));
+        current->material = std::string(trim(rest, kWhiteSpace));
         current->has_material = true;
       }
     } else if (key == "mtllib") {
-      mtllibs.emplace_back(trim(rest));
+      mtllibs.emplace_back(trim(rest, kWhiteSpace));
     } else if (key == "#") {
       if (next_word(rest) == "segmesh" && next_word(rest) == "part") pending_meta = std::string(rest);
     }

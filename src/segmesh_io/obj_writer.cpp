@@ -8,6 +8,8 @@
 #include <cmath>
 #include <set>
 
+#include "segmesh_io/detail/piece_writer.hpp"
+
 namespace segmesh {
 
 using namespace mesh_io;

@@ -15,7 +15,7 @@
 #include <ostream>
 #include <string>
 
-#include "segmesh_io/mesh_io_detail.hpp"
+#include "segmesh_io/detail/mesh_io_common.hpp"
 
 namespace segmesh {
 

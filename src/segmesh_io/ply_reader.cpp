@@ -7,7 +7,9 @@
 #include <limits>
 #include <sstream>
 
-#include "segmesh_io/mesh_io_detail.hpp"
+#include "segmesh_io/detail/byte_order.hpp"
+#include "segmesh_io/detail/mesh_io_common.hpp"
+#include "segmesh_io/detail/text.hpp"
 
 namespace segmesh {
 
@@ -70,21 +72,8 @@ struct PartComment {
 
 std::vector<std::string_view> split_words(std::string_view line) {
   std::vector<std::string_view> words;
-  size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-    const size_t start = i;
-    while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-    if (i > start) words.push_back(line.substr(start, i - start));
-  }
+  for (std::string_view word; !(word = next_word(line)).empty();) words.push_back(word);
   return words;
-}
-
-template <class T>
-bool parse_number(std::string_view s, T& out) {
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  const auto r = std::from_chars(s.data(), s.data() + s.size(), out);
-  return !s.empty() && r.ec == std::errc() && r.ptr == s.data() + s.size();
 }
 
 // "comment part vertices=8 faces=12 ... name=rest of line"; nullopt when malformed.

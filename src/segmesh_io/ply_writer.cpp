@@ -5,6 +5,9 @@
 #include <cstring>
 #include <limits>
 
+#include "segmesh_io/detail/byte_order.hpp"
+#include "segmesh_io/detail/piece_writer.hpp"
+
 namespace segmesh {
 
 using namespace mesh_io;

@@ -1,8 +1,9 @@
 #include "segmesh_io/read_mesh.hpp"
 
+#include "segmesh_io/detail/byte_order.hpp"
+#include "segmesh_io/detail/mesh_io_common.hpp"
 #include "segmesh_io/gltf_reader.hpp"
 #include "segmesh_io/mesh_format.hpp"
-#include "segmesh_io/mesh_io_detail.hpp"
 #include "segmesh_io/obj_reader.hpp"
 #include "segmesh_io/ply_reader.hpp"
 #include "segmesh_io/stl_reader.hpp"
@@ -20,7 +21,7 @@ Scene read_mesh(const std::filesystem::path& file) {
   if (format == MeshFormat::stl) return read_stl(bytes, file);
   const bool stl_like = bytes.starts_with("solid") ||
                         (bytes.size() >= 84 &&
-                         bytes.size() == 84 + 50 * uint64_t{mesh_io::load_le<uint32_t>(bytes.data() + 80)});
+                         bytes.size() == 84 + 50 * uint64_t{load_le<uint32_t>(bytes.data() + 80)});
   if (stl_like) return read_stl(bytes, file);
   mesh_io::fail(file, "unknown mesh format; expected an .stl, .ply, .obj or .glb file");
 }

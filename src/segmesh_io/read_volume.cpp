@@ -1,19 +1,18 @@
 #include "segmesh_io/read_volume.hpp"
 
-#include <algorithm>
-#include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <new>
 #include <string>
 
+#include "segmesh_io/detail/text.hpp"
+#include "segmesh_io/detail/volume_checks.hpp"
 #include "segmesh_io/dicom_series.hpp"
 #include "segmesh_io/metaimage_reader.hpp"
 #include "segmesh_io/mrc_reader.hpp"
 #include "segmesh_io/nifti_reader.hpp"
 #include "segmesh_io/nrrd_reader.hpp"
-#include "segmesh_io/volume_checks.hpp"
 
 namespace segmesh {
 
@@ -24,28 +23,21 @@ namespace {
 
 enum class Format { nifti, nrrd, metaimage, mrc, dicom, unknown };
 
-bool ends_with(const std::string& text, const std::string& suffix) {
-  return text.size() >= suffix.size() &&
-         text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
 Format format_of(const fs::path& path) {
-  std::string name = path.filename().string();
-  std::transform(name.begin(), name.end(), name.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string name = lower(path.filename().string());
   for (const char* suffix : {".nii", ".nii.gz"}) {
-    if (ends_with(name, suffix)) return Format::nifti;
+    if (name.ends_with(suffix)) return Format::nifti;
   }
   for (const char* suffix : {".nrrd", ".nhdr"}) {  // .seg.nrrd included
-    if (ends_with(name, suffix)) return Format::nrrd;
+    if (name.ends_with(suffix)) return Format::nrrd;
   }
   for (const char* suffix : {".mha", ".mhd"}) {
-    if (ends_with(name, suffix)) return Format::metaimage;
+    if (name.ends_with(suffix)) return Format::metaimage;
   }
   for (const char* suffix : {".mrc", ".map", ".rec"}) {
-    if (ends_with(name, suffix)) return Format::mrc;
+    if (name.ends_with(suffix)) return Format::mrc;
   }
-  if (ends_with(name, ".dcm")) {
+  if (name.ends_with(".dcm")) {
     throw file_error(path, "is a single DICOM file; give the folder that holds the whole series");
   }
   return Format::unknown;

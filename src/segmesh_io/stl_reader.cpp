@@ -4,7 +4,8 @@
 #include <cstring>
 #include <unordered_map>
 
-#include "segmesh_io/mesh_io_detail.hpp"
+#include "segmesh_io/detail/byte_order.hpp"
+#include "segmesh_io/detail/mesh_io_common.hpp"
 
 namespace segmesh {
 

@@ -8,8 +8,9 @@
 #include <system_error>
 
 #include "segmesh_io/atomic_file.hpp"
+#include "segmesh_io/detail/mesh_io_common.hpp"
+#include "segmesh_io/detail/text.hpp"
 #include "segmesh_io/gltf_writer.hpp"
-#include "segmesh_io/mesh_io_detail.hpp"
 #include "segmesh_io/obj_writer.hpp"
 #include "segmesh_io/ply_writer.hpp"
 #include "segmesh_io/stl_writer.hpp"
@@ -38,19 +39,19 @@ void write_to(const PartList& parts, const fs::path& file, MeshFormat format, co
     files.push_back(std::make_unique<AtomicFile>(target));
     return *files.back();
   };
+  // Formats of one file: write, then finish it.
+  const auto write_one = [&](const auto& write) {
+    AtomicFile& f = open(file);
+    write(f.stream());
+    finish(f);
+  };
   switch (format) {
-    case MeshFormat::stl: {
-      AtomicFile& f = open(file);
-      write_stl(parts, f.stream(), name);
-      finish(f);
+    case MeshFormat::stl:
+      write_one([&](std::ostream& out) { write_stl(parts, out, name); });
       break;
-    }
-    case MeshFormat::ply: {
-      AtomicFile& f = open(file);
-      write_ply(parts, f.stream());
-      finish(f);
+    case MeshFormat::ply:
+      write_one([&](std::ostream& out) { write_ply(parts, out); });
       break;
-    }
     case MeshFormat::obj: {
       fs::path mtl_path = file;
       mtl_path.replace_extension(".mtl");
@@ -65,12 +66,9 @@ void write_to(const PartList& parts, const fs::path& file, MeshFormat format, co
       finish(obj);
       break;
     }
-    case MeshFormat::glb: {
-      AtomicFile& f = open(file);
-      write_glb(parts, f.stream());
-      finish(f);
+    case MeshFormat::glb:
+      write_one([&](std::ostream& out) { write_glb(parts, out); });
       break;
-    }
   }
 }
 
@@ -87,11 +85,6 @@ std::string file_stem_for(const std::string& part_name) {
   if (s.size() > 100) s.resize(100);
   while (!s.empty() && s.back() == '.') s.pop_back();
   return s.empty() ? "part" : s;
-}
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
 }
 
 }  // namespace

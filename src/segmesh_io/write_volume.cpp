@@ -5,18 +5,19 @@
 #include <itkNrrdImageIO.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "segmesh/error.hpp"
 #include "segmesh_io/atomic_file.hpp"
-#include "segmesh_io/volume_checks.hpp"
-#include "segmesh_io/volume_itk.hpp"
+#include "segmesh_io/detail/text.hpp"
+#include "segmesh_io/detail/volume_checks.hpp"
+#include "segmesh_io/detail/volume_itk.hpp"
 
 namespace segmesh {
 
@@ -28,12 +29,10 @@ namespace {
 enum class OutputFormat { nifti, nifti_gz, nrrd, metaimage };
 
 OutputFormat output_format(const fs::path& path) {
-  std::string name = path.filename().string();
-  std::transform(name.begin(), name.end(), name.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
-  auto ends_with = [&](const std::string& suffix) {
-    return name.size() > suffix.size() &&
-           name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+  const std::string name = lower(path.filename().string());
+  // The suffix and a name before it: ".nii" alone is not a file name to write.
+  auto ends_with = [&](std::string_view suffix) {
+    return name.size() > suffix.size() && name.ends_with(suffix);
   };
   if (ends_with(".nii.gz")) return OutputFormat::nifti_gz;
   if (ends_with(".nii")) return OutputFormat::nifti;

@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "segmesh_io/read_volume.hpp"
-#include "segmesh_io/volume_data.hpp"
 #include "support/test_support.hpp"
 #include "volume_test_support.hpp"
 

@@ -6,7 +6,7 @@
 // the process on some of these and reads others with missing pixels.
 #include <algorithm>
 
-#include "segmesh_io/dicom_file_check.hpp"
+#include "segmesh_io/detail/dicom_file_check.hpp"
 #include "segmesh_io/read_volume.hpp"
 #include "support/test_support.hpp"
 #include "volume_test_support.hpp"

@@ -1,4 +1,4 @@
-// One-pass decoding of compressed volumes (volume_data.hpp, read_voxel_data): the fast path
+// One-pass decoding of compressed volumes (detail/read_voxel_data.hpp): the fast path
 // (one gzip member whose trailer agrees with the header, inflated by libdeflate into the volume
 // and widened there in place) and the streaming path (everything else) must give exactly what the
 // same data give uncompressed, and faults must be reported as they always were.

@@ -1,4 +1,4 @@
-// VoxelSink (volume_data.hpp): integer files land in the narrowest store that holds their type, a
+// VoxelSink (voxel_sink.hpp): integer files land in the narrowest store that holds their type, a
 // value the store cannot hold widens it (to int32, or to float when it is not a whole number),
 // also part way through in-place decoding; values outside int32 are an error.
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "segmesh/error.hpp"
-#include "segmesh_io/volume_data.hpp"
+#include "segmesh_io/detail/voxel_sink.hpp"
 
 namespace segmesh::volume_io {
 namespace {

@@ -13,7 +13,7 @@
 
 #include "segmesh/error.hpp"
 #include "segmesh/grid.hpp"
-#include "segmesh_io/volume_data.hpp"
+#include "segmesh_io/detail/voxel_sink.hpp"
 
 namespace itk {
 class ImageIOBase;

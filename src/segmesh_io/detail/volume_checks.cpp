@@ -1,4 +1,4 @@
-#include "segmesh_io/volume_checks.hpp"
+#include "segmesh_io/detail/volume_checks.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -142,6 +142,13 @@ void check_data_file(const fs::path& header, const fs::path& data) {
   const int fd = ::open(data.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throw file_error(data, std::string("cannot open the file (") + std::strerror(errno) + ")");
   ::close(fd);
+}
+
+fs::path detached_data_file(const fs::path& header, const std::string& name) {
+  fs::path data = name;
+  if (data.is_relative()) data = header.parent_path() / data;
+  check_data_file(header, data);
+  return data;
 }
 
 uint64_t size_of_file(const fs::path& path) {

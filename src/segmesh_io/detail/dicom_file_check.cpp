@@ -1,9 +1,4 @@
-#include "segmesh_io/dicom_file_check.hpp"
-
-#include <fcntl.h>
-#include <sys/mman.h>
-#include <sys/stat.h>
-#include <unistd.h>
+#include "segmesh_io/detail/dicom_file_check.hpp"
 
 #include <gdcmDicts.h>
 #include <gdcmGlobal.h>
@@ -14,11 +9,14 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstdio>
-#include <cerrno>
 #include <cstring>
 #include <limits>
 #include <sstream>
 #include <string>
+
+#include "segmesh_io/detail/byte_order.hpp"
+#include "segmesh_io/detail/mapped_file.hpp"
+#include "segmesh_io/detail/text.hpp"
 
 namespace segmesh::volume_io {
 
@@ -26,55 +24,6 @@ namespace {
 
 constexpr uint32_t kUndefined = 0xFFFFFFFFu;
 constexpr int kMaxDepth = 32;
-
-// A read-only view of a whole file.
-class MappedFile {
- public:
-  explicit MappedFile(const std::filesystem::path& file) {
-    fd_ = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd_ < 0) {
-      error_ = errno;
-      return;
-    }
-    struct stat st {};
-    if (::fstat(fd_, &st) != 0) {
-      error_ = errno;
-      return;
-    }
-    if (!S_ISREG(st.st_mode)) {
-      error_ = EINVAL;
-      return;
-    }
-    size_ = static_cast<size_t>(st.st_size);
-    opened_ = true;
-    if (size_ == 0) return;
-    void* p = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd_, 0);
-    if (p == MAP_FAILED) {
-      error_ = errno;
-      opened_ = false;
-      return;
-    }
-    data_ = static_cast<const unsigned char*>(p);
-  }
-  ~MappedFile() {
-    if (data_) ::munmap(const_cast<unsigned char*>(data_), size_);
-    if (fd_ >= 0) ::close(fd_);
-  }
-  MappedFile(const MappedFile&) = delete;
-  MappedFile& operator=(const MappedFile&) = delete;
-
-  bool opened() const { return opened_; }
-  int error() const { return error_; }  // errno when not opened
-  const unsigned char* data() const { return data_; }
-  size_t size() const { return size_; }
-
- private:
-  int fd_ = -1;
-  int error_ = 0;
-  bool opened_ = false;
-  const unsigned char* data_ = nullptr;
-  size_t size_ = 0;
-};
 
 std::string tag_text(uint16_t group, uint16_t element) {
   char text[16];
@@ -142,13 +91,10 @@ struct Walker {
   uint64_t pixel_length = 0;
 
   uint16_t u16(size_t at, bool big) const {
-    return big ? uint16_t(bytes[at] << 8 | bytes[at + 1]) : uint16_t(bytes[at] | bytes[at + 1] << 8);
+    return big ? load_be<uint16_t>(bytes + at) : load_le<uint16_t>(bytes + at);
   }
   uint32_t u32(size_t at, bool big) const {
-    return big ? uint32_t(bytes[at]) << 24 | uint32_t(bytes[at + 1]) << 16 |
-                     uint32_t(bytes[at + 2]) << 8 | uint32_t(bytes[at + 3])
-               : uint32_t(bytes[at]) | uint32_t(bytes[at + 1]) << 8 |
-                     uint32_t(bytes[at + 2]) << 16 | uint32_t(bytes[at + 3]) << 24;
+    return big ? load_be<uint32_t>(bytes + at) : load_le<uint32_t>(bytes + at);
   }
 
   bool fail(const std::string& what) {
@@ -296,12 +242,6 @@ struct Walker {
   }
 };
 
-std::string trimmed(const unsigned char* p, size_t n) {
-  std::string s(reinterpret_cast<const char*>(p), n);
-  while (!s.empty() && (s.back() == '\0' || s.back() == ' ')) s.pop_back();
-  return s;
-}
-
 DicomFileCheck finish(Walker& w) {
   if (!w.pixel_data) return {DicomFileStatus::not_image, "no pixel data"};
   if (!w.format_error.empty()) return {DicomFileStatus::broken, w.format_error};
@@ -390,7 +330,10 @@ DicomFileCheck check_dicom_file(const std::filesystem::path& file) {
         return {DicomFileStatus::broken, "truncated: the file meta element " + tag_text(2, element) +
                                              " runs past the end of the file"};
       }
-      if (element == 0x0010) transfer_syntax = trimmed(bytes + pos + header, length);
+      if (element == 0x0010) {  // UI values are padded with a NUL, some writers use a space
+        const std::string_view value(reinterpret_cast<const char*>(bytes + pos + header), length);
+        transfer_syntax = std::string(trim_end(value, std::string_view("\0 ", 2)));
+      }
       end = pos + header + length;
     }
     pos = end;

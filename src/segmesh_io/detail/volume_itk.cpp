@@ -1,23 +1,17 @@
-#include "segmesh_io/volume_itk.hpp"
+#include "segmesh_io/detail/volume_itk.hpp"
 
 #include <itkImageIOBase.h>
 
 #include <sstream>
 
-#include "segmesh_io/volume_checks.hpp"
+#include "segmesh_io/detail/text.hpp"
+#include "segmesh_io/detail/volume_checks.hpp"
 
 namespace segmesh::volume_io {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string trim(std::string text) {
-  const auto first = text.find_first_not_of(" \t\r\n");
-  if (first == std::string::npos) return {};
-  const auto last = text.find_last_not_of(" \t\r\n");
-  return text.substr(first, last - first + 1);
-}
 
 // ITK's descriptions span several lines and start with the class and object address
 // ("ITK ERROR: NrrdImageIO(0x5648b9343600): Read: ..."); teem's add "[nrrd] function: ".
@@ -30,7 +24,7 @@ std::string short_reason(const std::exception& e) {
   std::string reason;
   std::istringstream lines(text);
   for (std::string line; std::getline(lines, line);) {
-    line = trim(line);
+    line = std::string(trim(line));
     if (!line.empty()) reason = line;
   }
   if (!reason.empty() && reason.front() == '[') {

@@ -64,6 +64,11 @@ Error truncated_error(const std::filesystem::path& path, uint64_t needed, uint64
 // writer forever. `header` is the file that names it.
 void check_data_file(const std::filesystem::path& header, const std::filesystem::path& data);
 
+// The detached data file `name` that `header` names (a relative name is relative to the header's
+// folder), after check_data_file.
+std::filesystem::path detached_data_file(const std::filesystem::path& header,
+                                         const std::string& name);
+
 // The size of a regular file; Error naming `path` when it cannot be read.
 uint64_t size_of_file(const std::filesystem::path& path);
 
