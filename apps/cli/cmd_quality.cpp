@@ -87,15 +87,12 @@ MeshFormat format_read_as(const fs::path& file) {
 // `storage`; otherwise the part's own mesh, not copied. Rigid motions change none of the measures
 // of a closed mesh, but an open mesh's volume is taken about the origin.
 const TriMesh& placed_mesh(const Part& part, TriMesh& storage) {
-  if (part.transform == identity_transform()) return part.mesh;
+  if (is_identity(part.transform)) return part.mesh;
   const Transform& t = part.transform;  // column-major
   storage.indices = part.mesh.indices;
   storage.positions.clear();
   for (const Vec3f& p : part.mesh.positions) {
-    const Vec3d q = to_double(p);
-    storage.positions.push_back(to_float({t[0] * q.x + t[4] * q.y + t[8] * q.z + t[12],
-                                          t[1] * q.x + t[5] * q.y + t[9] * q.z + t[13],
-                                          t[2] * q.x + t[6] * q.y + t[10] * q.z + t[14]}));
+    storage.positions.push_back(to_float(transform_point(t, to_double(p))));
   }
   return storage;
 }

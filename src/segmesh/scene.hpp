@@ -13,6 +13,7 @@
 
 #include "segmesh/grid.hpp"
 #include "segmesh/label_info.hpp"
+#include "segmesh/transform.hpp"
 #include "segmesh/tri_mesh.hpp"
 
 namespace segmesh {
@@ -28,12 +29,6 @@ struct Material {
 // reference viewer's implant material); other parts from `color` or a per-label palette colour.
 Material default_material(Role role, int32_t label, std::optional<Rgb> color);
 
-// Column-major 4x4 rigid transform applied on top of the world coordinates (the viewer moves parts).
-using Transform = std::array<double, 16>;
-inline constexpr Transform identity_transform() {
-  return {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-}
-
 struct Part {
   std::string name;
   int32_t label = 0;
@@ -43,7 +38,7 @@ struct Part {
   int64_t voxels = 0;             // voxels in this component
   double voxel_volume_mm3 = 0;    // voxels times the voxel volume
   TriMesh mesh;                   // world millimetres
-  Transform transform = identity_transform();
+  Transform transform = identity_transform();  // on top of the world coordinates (transform.hpp)
   bool visible = true;
 };
 

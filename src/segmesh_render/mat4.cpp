@@ -4,29 +4,7 @@
 
 namespace segmesh::render {
 
-Mat4 operator*(const Mat4& a, const Mat4& b) {
-  Mat4 r{};
-  for (int c = 0; c < 4; ++c)
-    for (int row = 0; row < 4; ++row) {
-      double s = 0;
-      for (int k = 0; k < 4; ++k) s += a[4 * k + row] * b[4 * c + k];
-      r[4 * c + row] = s;
-    }
-  return r;
-}
-
-Vec3d transform_point(const Mat4& m, Vec3d p) {
-  const double x = m[0] * p.x + m[4] * p.y + m[8] * p.z + m[12];
-  const double y = m[1] * p.x + m[5] * p.y + m[9] * p.z + m[13];
-  const double z = m[2] * p.x + m[6] * p.y + m[10] * p.z + m[14];
-  const double w = m[3] * p.x + m[7] * p.y + m[11] * p.z + m[15];
-  return w != 0 && w != 1 ? Vec3d{x / w, y / w, z / w} : Vec3d{x, y, z};
-}
-
-Vec3d transform_direction(const Mat4& m, Vec3d d) {
-  return {m[0] * d.x + m[4] * d.y + m[8] * d.z, m[1] * d.x + m[5] * d.y + m[9] * d.z,
-          m[2] * d.x + m[6] * d.y + m[10] * d.z};
-}
+Mat4 operator*(const Mat4& a, const Mat4& b) { return multiply(a, b); }
 
 Mat4 inverse(const Mat4& m) {
   // Cofactor expansion (as in the MESA GLU implementation), column-major throughout.

@@ -1,5 +1,5 @@
 // Mat4: a column-major 4x4 matrix of doubles (the layout of segmesh::Transform and of OpenGL), and
-// the few operations the camera and the renderer need. Plain functions on plain arrays.
+// the few operations the camera and the renderer need on top of transform.hpp's. Plain functions on plain arrays.
 #pragma once
 
 #include <array>
@@ -16,10 +16,8 @@ inline constexpr Mat4 identity4() { return identity_transform(); }
 
 Mat4 operator*(const Mat4& a, const Mat4& b);
 
-// The point p (w = 1) transformed by m, divided by the resulting w.
-Vec3d transform_point(const Mat4& m, Vec3d p);
-// The direction d (w = 0) transformed by m's upper 3x3.
-Vec3d transform_direction(const Mat4& m, Vec3d d);
+// Points and directions through a Mat4: segmesh::transform_point and transform_direction
+// (transform.hpp).
 
 // The inverse of m; the zero matrix when m is singular.
 Mat4 inverse(const Mat4& m);

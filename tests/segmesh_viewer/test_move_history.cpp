@@ -16,7 +16,7 @@ ViewerState loaded_state() {
 }
 
 Vec3d placed(const ViewerState& state, size_t part, size_t vertex) {
-  return render::transform_point(state.scene.parts[part].transform,
+  return transform_point(state.scene.parts[part].transform,
                                  to_double(state.scene.parts[part].mesh.positions[vertex]));
 }
 

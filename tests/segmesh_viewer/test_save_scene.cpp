@@ -16,7 +16,7 @@ namespace fs = std::filesystem;
 // Where the vertices of a part are drawn: its mesh moved by its transform.
 std::vector<Vec3d> placed_positions(const Part& part) {
   std::vector<Vec3d> out;
-  for (const Vec3f& p : part.mesh.positions) out.push_back(render::transform_point(part.transform, to_double(p)));
+  for (const Vec3f& p : part.mesh.positions) out.push_back(transform_point(part.transform, to_double(p)));
   return out;
 }
 

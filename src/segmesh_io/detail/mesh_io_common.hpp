@@ -35,14 +35,8 @@ inline Material neutral_material() { return {Rgb{0.8f, 0.8f, 0.8f}, 0.0f, 0.6f};
 // The whole file in memory. Throws Error when it is missing or unreadable.
 std::string read_whole_file(const std::filesystem::path& file);
 
-bool is_identity(const Transform& t);
 // Orthonormal rotation part with determinant +1 (within tol) and a bottom row of (0, 0, 0, 1).
 bool is_rigid(const Transform& t, double tol = 1e-5);
-Transform multiply(const Transform& a, const Transform& b);
-Vec3d transform_point(const Transform& t, Vec3d p);
-// Normals transform with the inverse transpose of the linear part; the result is unit length.
-Vec3d transform_normal(const Transform& t, Vec3d n);
-double linear_determinant(const Transform& t);
 
 // Where a part's vertices go in formats without a scene graph: its transform applied to each
 // position and normal as it is written (no copy of the mesh), and the winding reversed when the
