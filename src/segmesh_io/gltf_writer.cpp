@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "segmesh_io/detail/byte_order.hpp"
+#include "segmesh_io/detail/mesh_io_common.hpp"
 #include "segmesh_io/detail/piece_writer.hpp"
 
 namespace segmesh {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <set>
 
+#include "segmesh_io/detail/mesh_io_common.hpp"
 #include "segmesh_io/detail/piece_writer.hpp"
 
 namespace segmesh {

@@ -16,7 +16,7 @@
 
 #include <ostream>
 
-#include "segmesh_io/detail/mesh_io_common.hpp"
+#include "segmesh_io/part_list.hpp"
 
 namespace segmesh {
 

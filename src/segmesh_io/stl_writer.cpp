@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "segmesh_io/detail/byte_order.hpp"
+#include "segmesh_io/detail/mesh_io_common.hpp"
 #include "segmesh_io/detail/piece_writer.hpp"
 
 namespace segmesh {

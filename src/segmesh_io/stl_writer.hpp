@@ -13,7 +13,7 @@
 #include <ostream>
 #include <string_view>
 
-#include "segmesh_io/detail/mesh_io_common.hpp"
+#include "segmesh_io/part_list.hpp"
 
 namespace segmesh {
 

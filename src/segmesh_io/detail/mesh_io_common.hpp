@@ -1,5 +1,5 @@
 // What the mesh readers and writers (stl_*, ply_*, obj_*, gltf_*) share. Internal to segmesh_io:
-// the parts to write (meshes checked first), errors naming the file, Part::transform applied to
+// the parts to write (part_list.hpp), errors naming the file, Part::transform applied to
 // points and normals (Placement: a moved part written where it is), and number text. Each is O(1)
 // per value; parts_to_write is one pass over the indices. Pieces: piece_writer.hpp; byte order:
 // byte_order.hpp.
@@ -14,18 +14,9 @@
 
 #include "segmesh/error.hpp"
 #include "segmesh/scene.hpp"
+#include "segmesh_io/part_list.hpp"
 
 namespace segmesh::mesh_io {
-
-// The parts a writer writes, in scene order. Pointers, so write_parts can hand one part to a
-// writer without copying its mesh.
-using PartList = std::vector<const Part*>;
-
-// The parts with at least one triangle (empty parts are skipped by every writer). Checks each
-// part's arrays (sizes agree, indices in range) and throws std::invalid_argument for a malformed
-// mesh: that is a programming fault, not a user error.
-PartList parts_to_write(const Scene& scene);
-void check_mesh(const Part& part);
 
 // The material of a part read from a file that names none: light grey, dielectric.
 inline Material neutral_material() { return {Rgb{0.8f, 0.8f, 0.8f}, 0.0f, 0.6f}; }
