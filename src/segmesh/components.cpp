@@ -14,8 +14,8 @@ namespace segmesh {
 namespace {
 
 // The first x >= from with v[x] != value, or n. Label maps hold long stretches of one value:
-// 64 bytes at a time are compared as eight words against the value repeated (about four times
-// faster than a voxel loop, which the compiler does not vectorise because of its early exit).
+// 64 bytes at a time are compared as eight words against the value repeated (a voxel loop is
+// not vectorised by the compiler because of its early exit).
 template <class T>
 int64_t skip_equal(const T* v, int64_t from, int64_t n, T value) {
   constexpr int64_t kBlock = 64 / sizeof(T);

@@ -83,8 +83,7 @@ void symmetric_eigen(const Mat3d& m, Vec3d& values, Mat3d& vectors) {
       if (apq == 0) continue;
       // The rotation's tangent t = sign(h) g / (|h| + sqrt(h^2 + g^2)), h = d[q] - d[p],
       // g = 2 o(p,q) (Golub and Van Loan's theta = h / g multiplied out), and its cosine and sine
-      // from the same denominator: one division between one rotation and the next where there
-      // were three (the pelvis's Dual Contouring 3 % faster, its meshes the same bytes).
+      // from the same denominator: one division per rotation instead of three.
       const double h = d[q] - d[p], g = 2 * apq;
       const double den = std::abs(h) + std::sqrt(h * h + g * g);
       const double sg = h >= 0 ? g : -g;
