@@ -1,5 +1,5 @@
 // segmesh mesh INPUT -o OUTPUT [options]: the main job. Reads a label map (or a grey-value volume
-// with --iso), splits it into parts, extracts each with Marching Cubes, writes the meshes and a
+// with --iso), splits it into parts, extracts each (Marching Cubes or Dual Contouring), writes the meshes and a
 // report. Every check that can fail on the user's input runs before the long work starts.
 #include <tbb/task_group.h>
 

@@ -73,7 +73,7 @@ class DcNeighbourhoods {
  public:
   DcNeighbourhoods(const Grid& grid, const DcOptions& options);
   ~DcNeighbourhoods();
-  struct Tables;  // one table per thread (dual_contouring.cpp)
+  struct Tables;  // one table per thread (detail/dc_neighbourhood_cache.hpp)
   const std::unique_ptr<Tables> tables;
 };
 

@@ -34,7 +34,7 @@ inline double voxel_clamped(const Volume<T>& v, int64_t i, int64_t j, int64_t k)
 
 // The gradients from the values around a point: at(di, dj, dk) is the value (double) at offset
 // (di, dj, dk), each in -1 .. 1. The volume versions below read voxels through them; Dual
-// Contouring reads the bits of a cell's neighbourhood (dual_contouring.cpp).
+// Contouring reads the bits of a cell's neighbourhood (detail/dc_vertices.cpp).
 template <class At>
 Vec3d central_gradient_of(At&& at) {
   return {(at(1, 0, 0) - at(-1, 0, 0)) / 2, (at(0, 1, 0) - at(0, -1, 0)) / 2,

@@ -209,7 +209,7 @@ Scene extract_parts(const Image& image, const PipelineParts& parts, const Meshin
 namespace {
 
 // The pipeline. With `release`, the volume's voxels are freed as soon as extraction is done, so
-// smoothing and writing do not carry them (build_scene(Image&&)).
+// smoothing and writing do not carry them (build_scene_releasing).
 Scene run_pipeline(const Image& image, const MeshingOptions& options, Progress& progress,
                    PipelineStats* timings, Scene* unsmoothed, Image* release) {
   const MeshingOptions o = resolve_meshing_options(options);

@@ -13,8 +13,8 @@
 //   than 1% (a missing slice), are errors naming the files; a gantry tilt is warned about.
 // - Grid: origin at the first slice, columns of the direction = row direction, column direction,
 //   slice normal; slice spacing from the positions (SliceThickness is ignored).
-// - Image::voxel_type is the stored type; rescaled values that are all whole numbers stay a
-//   LabelVolume (CT in HU), others become a ScalarVolume.
+// - Image::voxel_type is the stored type; rescaled values that are all whole numbers stay an
+//   integer volume (CT in HU), others become a ScalarVolume.
 #pragma once
 
 #include <filesystem>

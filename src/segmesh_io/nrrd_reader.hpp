@@ -1,10 +1,10 @@
 // NRRD reader (.nrrd, .nhdr with detached data, 3D Slicer .seg.nrrd). Internal to segmesh_io;
 // use read_volume().
 //
-// ITK's NrrdImageIO reads the header, the geometry and the voxels (every NRRD encoding); it
-// already refuses truncated data, but only after allocating. So the data's location and encoding
-// are scanned here first, and raw or gzip data (attached or in one detached file) are measured
-// against what the header claims before anything is allocated.
+// ITK's NrrdImageIO reads the header and the geometry. The data's location and encoding are
+// scanned here first, and raw or gzip data (attached or in one detached file) are measured against
+// what the header claims before anything is allocated, then decoded here (read_voxel_data.hpp);
+// ITK reads the voxels only for the other encodings.
 //
 // 3D Slicer segmentations keep their segments in header keys: SegmentN_Name, SegmentN_Color
 // ("r g b", 0..1), SegmentN_LabelValue and SegmentN_Layer. They become Image::labels. Segments

@@ -14,7 +14,8 @@
 //   NIfTI-2, which ITK 5.2 cannot read, uses the sform (else qform, else pixdim) converted
 //   from RAS to LPS. MRC maps have no orientation: identity direction, and every length in the
 //   file's own unit, which for EM maps is the ångström (not mm).
-// - Integer voxel types become a LabelVolume (int32); float types a ScalarVolume. A rescale
+// - Integer voxel types keep the narrowest of uint8, int16, uint16 and int32 that holds the file's
+//   type (image.hpp); float types become a ScalarVolume. A rescale
 //   (NIfTI scl_slope/scl_inter, DICOM rescale slope/intercept) keeps integers as long as every
 //   rescaled value is a whole number. Image::voxel_type names the type stored in the file.
 // - Before allocating anything, the header is checked: 3-D (a 4-D/5-D file only if its extra

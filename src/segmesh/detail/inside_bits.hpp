@@ -1,6 +1,6 @@
 // Inside bits: which grid points of a field are inside, packed 64 to a word along x, row by row.
 //
-// Dual Contouring (dual_contouring.cpp) works on these instead of the field: the Marching Cubes
+// Dual Contouring (dual_contouring.cpp, dc_cell_rows.hpp) works on these instead of the field: the Marching Cubes
 // case of a cell is two bits from each of four rows, the cells that hold surface are a few word
 // operations per 64 cells (a cell is non-trivial when its eight corners are not all equal), and
 // the 4 x 4 x 4 neighbourhood that decides a binary cell's vertex is four 16-bit columns of the
