@@ -11,6 +11,7 @@ cd "$(dirname "$0")/.."
 
 packages=(
   cmake ninja-build g++ make pkg-config git     # build
+  ccache                                        # compiler cache: fresh clones rebuild from it
   libinsighttoolkit5-dev zlib1g-dev             # volume formats (NIfTI, NRRD, MHA, DICOM)
   libtbb-dev                                    # threads (oneTBB)
   libcli11-dev nlohmann-json3-dev               # command line, JSON (reports, glTF)

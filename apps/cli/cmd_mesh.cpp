@@ -15,6 +15,7 @@
 #include "progress_bar.hpp"
 #include "segmesh/error.hpp"
 #include "segmesh/pipeline.hpp"
+#include "segmesh/scene_measures.hpp"
 #include "segmesh_io/atomic_file.hpp"
 #include "segmesh_io/mesh_format.hpp"
 #include "segmesh_io/write_mesh.hpp"
@@ -112,19 +113,28 @@ int run_mesh(const MeshArgs& args) {
   t.read = ms_since(step);
 
   PipelineStats pipeline;
-  Scene unsmoothed;
+  const bool report = !args.report.empty();
+  const bool smoothed = options.smooth.method != SmoothMethod::none;
+  ExtractedPositions extracted;
   const Scene scene = build_scene_releasing(image, options, progress, &pipeline,
-                                  args.report.empty() ? nullptr : &unsmoothed);
+                                            report && smoothed ? &extracted : nullptr);
   t.components = pipeline.components_ms;
   t.extract = pipeline.extract_ms;
   t.smooth = pipeline.smooth_ms;
 
-  // The parts' measures (closed, area, volume) are for the summary table and the report only;
-  // they are computed while the file is written (writing is mostly serial encoding and the
-  // kernel's copy), and not at all with --quiet and no report.
-  std::vector<MeshMeasures> measures;
+  // The parts' measures are for the summary table and the report only (the topology checks for
+  // the table; quality, volume change and smoothing deviation for the report too). They run
+  // beside the write (writing is mostly serial encoding and the kernel's copy), and not at all
+  // with --quiet and no report. The extracted positions go as soon as they are measured.
+  std::vector<PartMeasures> measures;
   tbb::task_group measuring;
-  if (!args.quiet || !args.report.empty()) measuring.run([&] { measures = measure_parts(scene); });
+  if (!args.quiet || report) {
+    measuring.run([&] {
+      measures = measure_scene(scene, {.quality = report,
+                                       .extracted = report && smoothed ? &extracted : nullptr});
+      extracted = {};
+    });
+  }
   progress.step("writing");
   step = std::chrono::steady_clock::now();
   std::vector<std::string> outputs;
@@ -140,17 +150,25 @@ int run_mesh(const MeshArgs& args) {
     throw;
   }
   t.write = ms_since(step);
-  progress.finish();
-  t.total = ms_since(start);
+  step = std::chrono::steady_clock::now();
   measuring.wait();
-  if (!args.report.empty()) {
-    const auto report = mesh_report(image, options_json(args, options, target), t, pipeline, scene,
-                                    options.smooth.method == SmoothMethod::none ? nullptr : &unsmoothed,
-                                    measures, outputs);
+  t.measure = ms_since(step);
+  progress.finish();
+  if (report) {
+    step = std::chrono::steady_clock::now();
+    nlohmann::json json = mesh_report(image, options_json(args, options, target), t, pipeline,
+                                      scene, measures, outputs);
+    t.report = ms_since(step);
+    // The total as the report is written: everything but the file write and the summary below.
+    t.total = ms_since(start);
+    json["timings_ms"]["report"] = t.report;
+    json["timings_ms"]["other"] = t.total - t.steps();
+    json["timings_ms"]["total"] = t.total;
     AtomicFile file(args.report);
-    file.stream() << report.dump(2) << '\n';
+    file.stream() << json.dump(2) << '\n';
     file.commit();
   }
+  t.total = ms_since(start);
   if (!args.quiet) {
     std::printf("%s", summary_table(scene, measures).c_str());
     std::printf("%zu parts", scene.parts.size());
@@ -162,8 +180,10 @@ int run_mesh(const MeshArgs& args) {
       std::printf(" (%lld parts thinner than the --presmooth kernel meshed unsmoothed)",
                   (long long)pipeline.presmooth_fallbacks);
     }
-    std::printf(" in %.0f ms (read %.0f, components %.0f, extract %.0f, smooth %.0f, write %.0f)\n",
-                t.total, t.read, t.components, t.extract, t.smooth, t.write);
+    std::printf(" in %.0f ms (read %.0f, components %.0f, extract %.0f, smooth %.0f, write %.0f, "
+                "measure %.0f%s)\n",
+                t.total, t.read, t.components, t.extract, t.smooth, t.write, t.measure,
+                report ? (", report " + std::to_string(long(t.report + 0.5))).c_str() : "");
     std::printf("wrote %s%s\n", target.path.string().c_str(),
                 target.folder ? (" (" + std::to_string(outputs.size()) + " files)").c_str() : "");
     if (!args.report.empty()) std::printf("report %s\n", args.report.c_str());

@@ -1,52 +1,28 @@
 #include "mesh_report.hpp"
 
-#include <tbb/parallel_for.h>
-
 #include <cstdio>
 
 #include "cli_common.hpp"
-#include "segmesh/mesh_distance.hpp"
-#include "segmesh/quality.hpp"
 
 namespace segmesh::cli {
 
-std::vector<MeshMeasures> measure_parts(const Scene& scene) {
-  std::vector<MeshMeasures> out(scene.parts.size());
-  tbb::parallel_for(size_t{0}, scene.parts.size(),
-                    [&](size_t p) { out[p] = measure_mesh(scene.parts[p].mesh); });
-  return out;
-}
-
 nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, const Timings& t,
                            const PipelineStats& stats, const Scene& scene,
-                           const Scene* unsmoothed, const std::vector<MeshMeasures>& measures,
+                           const std::vector<PartMeasures>& measures,
                            const std::vector<std::string>& outputs) {
   nlohmann::json input = grid_json(image.grid());
   input["path"] = image.path;
   input["type"] = image.voxel_type;
-  // Quality and how far smoothing moved each part, in parallel over parts.
-  struct Extra {
-    QualityStats quality;
-    double volume_before = 0;
-    Deviation deviation{0, 0, 0};
-  };
-  std::vector<Extra> extra(scene.parts.size());
-  const bool smoothed = unsmoothed && unsmoothed->parts.size() == scene.parts.size();
-  tbb::parallel_for(size_t{0}, scene.parts.size(), [&](size_t p) {
-    extra[p].quality = triangle_quality(scene.parts[p].mesh);
-    extra[p].volume_before = measures[p].volume_mm3;
-    if (smoothed) {
-      extra[p].volume_before = enclosed_volume(unsmoothed->parts[p].mesh);
-      extra[p].deviation = mesh_deviation(unsmoothed->parts[p].mesh, scene.parts[p].mesh);
-    }
-  });
   nlohmann::json parts = nlohmann::json::array();
   int64_t vertices = 0, triangles = 0, voxels = 0;
   double area = 0, volume = 0, voxel_volume = 0;
   bool all_closed = true;
   for (size_t p = 0; p < scene.parts.size(); ++p) {
     const Part& part = scene.parts[p];
-    const MeshMeasures& m = measures[p];
+    const MeshMeasures& m = measures[p].mesh;
+    const QualityStats quality = measures[p].quality.value_or(QualityStats{});
+    const double volume_before = measures[p].volume_before_mm3.value_or(m.volume_mm3);
+    const Deviation deviation = measures[p].smoothing_deviation.value_or(Deviation{0, 0, 0});
     parts.push_back({{"name", part.name},
                      {"label", part.label},
                      {"component", part.component},
@@ -63,15 +39,15 @@ nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, co
                      {"winding_errors", m.winding_errors},
                      {"shells", m.shells},
                      {"euler", m.euler},
-                     {"radii_ratio", {{"min", extra[p].quality.min}, {"mean", extra[p].quality.mean}}},
+                     {"radii_ratio", {{"min", quality.min}, {"mean", quality.mean}}},
                      {"volume_change_percent",
-                      100 * (m.volume_mm3 - extra[p].volume_before) / extra[p].volume_before},
+                      100 * (m.volume_mm3 - volume_before) / volume_before},
                      {"volume_vs_voxels_percent",
                       100 * (m.volume_mm3 - part.voxel_volume_mm3) / part.voxel_volume_mm3},
                      {"smoothing_deviation_mm",
-                      {{"hausdorff", extra[p].deviation.hausdorff},
-                       {"mean", extra[p].deviation.mean},
-                       {"p95", extra[p].deviation.p95}}}});
+                      {{"hausdorff", deviation.hausdorff},
+                       {"mean", deviation.mean},
+                       {"p95", deviation.p95}}}});
     vertices += m.vertices;
     triangles += m.triangles;
     voxels += part.voxels;
@@ -88,6 +64,9 @@ nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, co
             {"extract", t.extract},
             {"smooth", t.smooth},
             {"write", t.write},
+            {"measure", t.measure},
+            {"report", t.report},
+            {"other", t.total - t.steps()},
             {"total", t.total}}},
           {"outputs", outputs},
           {"parts", parts},
@@ -104,7 +83,7 @@ nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, co
             {"presmooth_fallbacks", stats.presmooth_fallbacks}}}};
 }
 
-std::string summary_table(const Scene& scene, const std::vector<MeshMeasures>& measures) {
+std::string summary_table(const Scene& scene, const std::vector<PartMeasures>& measures) {
   std::string out;
   char line[512];
   std::snprintf(line, sizeof line, "%-28s %-8s %10s %11s %14s %14s %7s %6s\n", "part", "role",
@@ -112,7 +91,7 @@ std::string summary_table(const Scene& scene, const std::vector<MeshMeasures>& m
   out += line;
   for (size_t p = 0; p < scene.parts.size(); ++p) {
     const Part& part = scene.parts[p];
-    const MeshMeasures& m = measures[p];
+    const MeshMeasures& m = measures[p].mesh;
     std::snprintf(line, sizeof line, "%-28s %-8s %10lld %11lld %14.1f %14.1f %7s %6lld\n",
                   part.name.c_str(), std::string(role_name(part.role)).c_str(),
                   (long long)part.voxels, (long long)m.triangles, part.voxel_volume_mm3,

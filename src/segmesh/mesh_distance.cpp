@@ -11,6 +11,7 @@
 #include <limits>
 #include <optional>
 
+#include "segmesh/moved_mesh_deviation.hpp"
 #include "segmesh/quality.hpp"
 
 namespace segmesh {
@@ -345,10 +346,8 @@ std::vector<Vec3d> surface_samples(const TriMesh& mesh) {
 }
 
 // Distances of `samples` to `target`, written to out[0 ..), and their sum taken over fixed
-// blocks in order. With `counterparts` (points on the target, one per sample), each distance
-// is searched below the distance to its counterpart.
-double measure(const std::vector<Vec3d>& samples, const MeshDistance& target, double* out,
-               const std::vector<Vec3d>* counterparts = nullptr) {
+// blocks in order.
+double measure(const std::vector<Vec3d>& samples, const MeshDistance& target, double* out) {
   const size_t n = samples.size();
   const size_t blocks = (n + kSampleBlock - 1) / kSampleBlock;
   std::vector<double> block_sum(blocks, 0.0);
@@ -358,8 +357,7 @@ double measure(const std::vector<Vec3d>& samples, const MeshDistance& target, do
                         double sum = 0;
                         for (size_t i = b * kSampleBlock, end = std::min(n, (b + 1) * kSampleBlock);
                              i < end; ++i) {
-                          out[i] = counterparts ? target.distance(samples[i], norm(samples[i] - (*counterparts)[i]))
-                                                : target.distance(samples[i]);
+                          out[i] = target.distance(samples[i]);
                           sum += out[i];
                         }
                         block_sum[b] = sum;
@@ -375,6 +373,10 @@ double measure(const std::vector<Vec3d>& samples, const MeshDistance& target, do
 Deviation mesh_deviation(const TriMesh& a, const TriMesh& b) {
   if (a.empty() && b.empty()) return {0, 0, 0};
   if (a.empty() || b.empty()) return {kInf, kInf, kInf};
+  // A mesh and its moved copy: the tree on the triangles' own order, every sample measured.
+  if (a.positions.size() == b.positions.size() && a.indices == b.indices) {
+    return moved_mesh_deviation(a.positions, b, std::numeric_limits<size_t>::max());
+  }
   std::vector<Vec3d> samples_a, samples_b;
   std::optional<MeshDistance> index_a, index_b;
   tbb::parallel_invoke(
@@ -387,10 +389,8 @@ Deviation mesh_deviation(const TriMesh& a, const TriMesh& b) {
         index_b.emplace(b);
       });
   std::vector<double> d(samples_a.size() + samples_b.size());
-  const bool shared = a.positions.size() == b.positions.size() && a.indices == b.indices;
-  const double sum_ab = measure(samples_a, *index_b, d.data(), shared ? &samples_b : nullptr);
-  const double sum_ba =
-      measure(samples_b, *index_a, d.data() + samples_a.size(), shared ? &samples_a : nullptr);
+  const double sum_ab = measure(samples_a, *index_b, d.data());
+  const double sum_ba = measure(samples_b, *index_a, d.data() + samples_a.size());
   Deviation dev;
   // One addition of two partial sums is commutative, which makes the mean exactly symmetric.
   dev.mean = (sum_ab + sum_ba) / double(d.size());

@@ -49,10 +49,9 @@ struct SurfaceSums {
 // Area and volume, relative to the centroid of the vertices to keep the sums well conditioned
 // far from the world origin; the volume is moved back to the origin by the exact correction
 // centroid . sum(n) (header comment), which is zero for a closed mesh.
-void measure_surface(const TriMesh& mesh, MeshMeasures& m) {
-  const auto& idx = mesh.indices;
-  const auto& pos = mesh.positions;
-  const size_t nv = pos.size(), nt = mesh.triangle_count();
+void measure_surface(const std::vector<Vec3f>& pos, const std::vector<uint32_t>& idx,
+                     MeshMeasures& m) {
+  const size_t nv = pos.size(), nt = idx.size() / 3;
   const Vec3d centre = (1.0 / double(nv)) * deterministic_sum<Vec3d>(nv, 1 << 16, [&](size_t b, size_t e) {
     Vec3d s{};
     for (size_t v = b; v < e; ++v) s = s + to_double(pos[v]);
@@ -232,7 +231,7 @@ MeshMeasures measure_mesh(const TriMesh& mesh) {
   const size_t nt = mesh.triangle_count();
   m.triangles = static_cast<int64_t>(nt);
   if (nt == 0) return m;
-  measure_surface(mesh, m);
+  measure_surface(mesh.positions, mesh.indices, m);
   // Meshing output (closed oriented manifolds) takes the parallel path; anything else, or a
   // mesh too large for 32-bit rows, the general one.
   bool rings = false;
@@ -247,8 +246,12 @@ MeshMeasures measure_mesh(const TriMesh& mesh) {
 }
 
 double enclosed_volume(const TriMesh& mesh) {
+  return enclosed_volume(mesh.positions, mesh.indices);
+}
+
+double enclosed_volume(const std::vector<Vec3f>& positions, const std::vector<uint32_t>& indices) {
   MeshMeasures m;
-  if (mesh.triangle_count() > 0) measure_surface(mesh, m);
+  if (indices.size() >= 3) measure_surface(positions, indices, m);
   return m.volume_mm3;
 }
 

@@ -21,6 +21,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "segmesh/tri_mesh.hpp"
 
@@ -54,5 +55,8 @@ MeshMeasures measure_mesh(const TriMesh& mesh);
 
 // Only the signed enclosed volume (as measure_mesh computes it), without the topology checks.
 double enclosed_volume(const TriMesh& mesh);
+// The same of the surface with these positions and triangles (a mesh's triangles with the
+// positions it had before smoothing, say).
+double enclosed_volume(const std::vector<Vec3f>& positions, const std::vector<uint32_t>& indices);
 
 }  // namespace segmesh

@@ -211,7 +211,7 @@ namespace {
 // The pipeline. With `release`, the volume's voxels are freed as soon as extraction is done, so
 // smoothing and writing do not carry them (build_scene_releasing).
 Scene run_pipeline(const Image& image, const MeshingOptions& options, Progress& progress,
-                   PipelineStats* timings, Scene* unsmoothed, Image* release) {
+                   PipelineStats* timings, ExtractedPositions* extracted, Image* release) {
   const MeshingOptions o = resolve_meshing_options(options);
   PipelineStats local;
   PipelineStats& t = timings ? *timings : local;
@@ -222,31 +222,35 @@ Scene run_pipeline(const Image& image, const MeshingOptions& options, Progress& 
 
   start = Clock::now();
   Scene scene = extract_parts(image, parts, o, progress, &t.presmooth_fallbacks);
-  t.extract_ms = ms_since(start);
-  if (unsmoothed) *unsmoothed = scene;
+  if (extracted) {
+    extracted->parts.resize(scene.parts.size());
+    tbb::parallel_for(size_t{0}, scene.parts.size(),
+                      [&](size_t p) { extracted->parts[p] = scene.parts[p].mesh.positions; });
+  }
   if (release) {
     // Swapped with an empty vector, so the memory goes (`voxels = {}` would only clear it).
     std::visit([](auto& v) { decltype(v.voxels)().swap(v.voxels); }, release->volume);
   }
+  t.extract_ms = ms_since(start);
 
   progress.step("smoothing");
   start = Clock::now();
   smooth_scene(scene, o.smooth, progress);
-  t.smooth_ms = ms_since(start);
   if (o.color_by_quality) color_scene_by_quality(scene);
+  t.smooth_ms = ms_since(start);
   return scene;
 }
 
 }  // namespace
 
 Scene build_scene(const Image& image, const MeshingOptions& options, Progress& progress,
-                  PipelineStats* timings, Scene* unsmoothed) {
-  return run_pipeline(image, options, progress, timings, unsmoothed, nullptr);
+                  PipelineStats* timings, ExtractedPositions* extracted) {
+  return run_pipeline(image, options, progress, timings, extracted, nullptr);
 }
 
 Scene build_scene_releasing(Image& image, const MeshingOptions& options, Progress& progress,
-                            PipelineStats* timings, Scene* unsmoothed) {
-  return run_pipeline(image, options, progress, timings, unsmoothed, &image);
+                            PipelineStats* timings, ExtractedPositions* extracted) {
+  return run_pipeline(image, options, progress, timings, extracted, &image);
 }
 
 }  // namespace segmesh

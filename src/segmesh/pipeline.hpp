@@ -32,7 +32,7 @@ namespace segmesh {
 struct PipelineStats {
   double components_ms = 0;
   double extract_ms = 0;
-  double smooth_ms = 0;
+  double smooth_ms = 0;  // the smoothing and, when asked, the quality colours
   int64_t dropped_components = 0;  // smaller than min_voxels
   int64_t presmooth_fallbacks = 0;  // parts volume smoothing would have erased, meshed without it
 };
@@ -60,17 +60,17 @@ Scene extract_parts(const Image& image, const PipelineParts& parts, const Meshin
 // Builds the scene. Throws segmesh::Error (naming image.path) for requests the volume cannot
 // satisfy: a float volume without iso, a label that is not in the volume, no foreground at all,
 // nothing left after --min-voxels, invalid options. Throws Cancelled when progress is cancelled.
-// With `unsmoothed`, also returns the scene as extracted, before smoothing (for reports that say
-// how far smoothing moved the surface).
+// With `extracted`, also returns every part's positions as extracted, before smoothing (for
+// reports that say how far smoothing moved the surface: scene_measures.hpp).
 Scene build_scene(const Image& image, const MeshingOptions& options,
                   Progress& progress = null_progress(), PipelineStats* timings = nullptr,
-                  Scene* unsmoothed = nullptr);
+                  ExtractedPositions* extracted = nullptr);
 // As build_scene, freeing the image's voxels once extraction is done (the grid, path and names
 // stay), so the steps after it do not carry the volume: for a front end that is done with the
 // volume and wants its peak memory down.
 Scene build_scene_releasing(Image& image, const MeshingOptions& options,
                             Progress& progress = null_progress(), PipelineStats* timings = nullptr,
-                            Scene* unsmoothed = nullptr);
+                            ExtractedPositions* extracted = nullptr);
 
 // The smoothing step on its own: every part smoothed in parallel (normals recomputed); then
 // quality colours when asked. build_scene ends with it; the study runs it with many settings.

@@ -42,6 +42,14 @@ struct Part {
   bool visible = true;
 };
 
+// Every part's vertex positions as extracted, before smoothing moved them: smoothing keeps a
+// mesh's triangles, so these positions with the part's own triangles are its surface before
+// smoothing (for the report's volume change and smoothing deviation: scene_measures.hpp). 12
+// bytes per vertex, where a copy of the meshes would take 24 per triangle more.
+struct ExtractedPositions {
+  std::vector<std::vector<Vec3f>> parts;  // in scene order
+};
+
 struct Scene {
   Grid grid;  // the source volume's grid
   std::vector<Part> parts;

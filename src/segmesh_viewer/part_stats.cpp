@@ -1,19 +1,18 @@
 #include "segmesh_viewer/part_stats.hpp"
 
 #include <algorithm>
-#include <atomic>
-#include <tbb/parallel_for.h>
 
-#include "segmesh/mesh_measures.hpp"
-#include "segmesh/quality.hpp"
+#include "segmesh/scene_measures.hpp"
 
 namespace segmesh::viewer {
 
-PartStats measure_part(const TriMesh& mesh) {
+namespace {
+
+PartStats to_stats(const PartMeasures& measures) {
   PartStats s;
-  if (mesh.empty()) return s;
-  const MeshMeasures m = measure_mesh(mesh);
-  const QualityStats q = triangle_quality(mesh);
+  const MeshMeasures& m = measures.mesh;
+  if (m.triangles == 0) return s;
+  const QualityStats q = measures.quality.value_or(QualityStats{});
   s.vertices = m.vertices;
   s.triangles = m.triangles;
   s.area_mm2 = m.area_mm2;
@@ -25,17 +24,17 @@ PartStats measure_part(const TriMesh& mesh) {
   return s;
 }
 
+}  // namespace
+
+PartStats measure_part(const TriMesh& mesh) {
+  return to_stats(segmesh::measure_part(mesh, true));
+}
+
 std::vector<PartStats> measure_parts(const Scene& scene, Progress& progress) {
-  const size_t n = scene.parts.size();
-  std::vector<PartStats> stats(n);
-  progress.step("measuring");
-  std::atomic<size_t> done{0};
-  tbb::parallel_for(size_t(0), n, [&](size_t i) {
-    if (progress.cancelled()) return;
-    stats[i] = measure_part(scene.parts[i].mesh);
-    progress.update(double(++done) / double(n));
-  });
-  throw_if_cancelled(progress);
+  const std::vector<PartMeasures> measures = measure_scene(scene, {.quality = true}, progress);
+  std::vector<PartStats> stats;
+  stats.reserve(measures.size());
+  for (const PartMeasures& m : measures) stats.push_back(to_stats(m));
   return stats;
 }
 

@@ -1,7 +1,8 @@
-// Part statistics for the viewer's table and quality view: the numbers of `segmesh quality` for one
-// part (vertices, triangles, area, enclosed volume, closedness from mesh_measures.hpp; radii ratio
-// minimum, mean and histogram from quality.hpp), and their sum over the visible parts for the
-// colour bar's histogram. Measures are of the mesh as meshed: a rigid move changes none of them.
+// Part statistics for the viewer's table and quality view: the numbers the CLI reports for one
+// part (vertices, triangles, area, enclosed volume, closedness, radii ratio minimum, mean and
+// histogram), taken from the core's measure_scene (segmesh/scene_measures.hpp) so the viewer and
+// the CLI measure a part the same way, and their sum over the visible parts for the colour bar's
+// histogram. Measures are of the mesh as meshed: a rigid move changes none of them.
 // Cost: O(triangles) per part (both measures are linear).
 #pragma once
 

@@ -49,9 +49,19 @@ TEST(Cli, MeshWritesEveryFormatAndAReportOfClosedParts) {
   for (const char* key : {"input", "options", "timings_ms", "parts", "totals"}) {
     EXPECT_TRUE(report.contains(key)) << key;
   }
-  for (const char* key : {"read", "components", "extract", "smooth", "write", "total"}) {
-    EXPECT_TRUE(report["timings_ms"].contains(key)) << key;
+  // Every step of the command is timed, and the steps partition the run: they add up to the
+  // total, which is the wall time up to the report (the rest, "other", is small).
+  double steps = 0;
+  for (const char* key :
+       {"read", "components", "extract", "smooth", "write", "measure", "report", "other"}) {
+    ASSERT_TRUE(report["timings_ms"].contains(key)) << key;
+    EXPECT_GE(report["timings_ms"][key].get<double>(), key == std::string("other") ? -0.01 : 0.0)
+        << key;
+    steps += report["timings_ms"][key].get<double>();
   }
+  const double total = report["timings_ms"]["total"];
+  EXPECT_NEAR(steps, total, 1e-6 * total);
+  EXPECT_LT(report["timings_ms"]["other"].get<double>(), 0.05 * total);
   EXPECT_EQ(report["input"]["dims"], nlohmann::json({256, 256, 102}));
   EXPECT_EQ(report["parts"].size(), 10u);  // 3 bone parts, plate and 6 screws
   for (const auto& part : report["parts"]) {
