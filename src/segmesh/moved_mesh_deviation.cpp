@@ -28,6 +28,10 @@ constexpr size_t kOrderedLeaf = 16;
 // (minima and maxima of the float corners), so only the rounding of the double sums matters.
 constexpr double kBoxShrink = 1 - 1e-12;
 
+// Points searched together (OrderedTree::nearest2_group): enough to share a walk down the tree,
+// few enough that they lie close together.
+constexpr size_t kGroup = 16;
+
 // Samples per block of the sums and lists: fixed blocks make the results independent of the
 // number of threads.
 constexpr size_t kSampleBlock = 4096;
@@ -95,9 +99,54 @@ class OrderedTree {
     return best;
   }
 
+  // The squared distances of a group of nearby points (up to kGroup), each below its bound2[k]
+  // (else bound2[k]), each search starting with the leaf of triangle start[k]: after the start
+  // leaves, one walk down the tree collects the leaves near the whole group (within each point's
+  // best distance so far), and each point tests only those. Samples taken in order are close
+  // together, so the group shares one walk where single searches would each make their own.
+  void nearest2_group(const Vec3d* p, double* bound2, const size_t* start, size_t count) const {
+    uint64_t start_leaf[kGroup];
+    Box region{{kInfF, kInfF, kInfF}, {-kInfF, -kInfF, -kInfF}};
+    for (size_t k = 0; k < count; ++k) {
+      start_leaf[k] = leaf_of(start[k]);
+      test_leaf(p[k], start_leaf[k], bound2[k]);
+      // The region holds every point's ball of its best distance (rounded outwards).
+      const double r = std::sqrt(bound2[k]) * (1 + 1e-9);
+      const double c[3] = {p[k].x, p[k].y, p[k].z};
+      for (int a = 0; a < 3; ++a) {
+        region.lo[a] = std::min(region.lo[a], std::nextafter(float(c[a] - r), -kInfF));
+        region.hi[a] = std::max(region.hi[a], std::nextafter(float(c[a] + r), kInfF));
+      }
+    }
+    const uint64_t first = (uint64_t{1} << levels_) - 1;
+    uint64_t stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const uint64_t node = stack[--top];
+      if (!boxes_[node].overlaps(region)) continue;
+      if (node < first) {
+        stack[top++] = 2 * node + 2;
+        stack[top++] = 2 * node + 1;
+        continue;
+      }
+      const uint64_t leaf = node - first;
+      for (size_t k = 0; k < count; ++k) {
+        if (leaf != start_leaf[k] && boxes_[node].distance2(p[k]) < bound2[k]) {
+          test_leaf(p[k], leaf, bound2[k]);
+        }
+      }
+    }
+  }
+
  private:
   struct Box {
     float lo[3], hi[3];
+    bool overlaps(const Box& o) const {
+      for (int a = 0; a < 3; ++a)
+        if (lo[a] > o.hi[a] || o.lo[a] > hi[a]) return false;
+      return true;
+    }
     void add(Vec3f v) {
       const float c[3] = {v.x, v.y, v.z};
       for (int a = 0; a < 3; ++a) {
@@ -197,10 +246,6 @@ Direction measure_direction(const std::vector<Vec3f>& from, const std::vector<Ve
     bound = norm(p - q);
     return true;
   };
-  auto distance = [&](Vec3d p, double bound, size_t start) {
-    return std::sqrt(target.nearest2(p, bound * bound, start));
-  };
-
   const size_t blocks = (n + kSampleBlock - 1) / kSampleBlock;
   std::vector<std::vector<double>> block_distances(blocks);
   std::vector<double> block_sum(blocks, 0.0), block_max(blocks, 0.0);
@@ -208,16 +253,27 @@ Direction measure_direction(const std::vector<Vec3f>& from, const std::vector<Ve
     for (size_t b = r.begin(); b != r.end(); ++b) {
       double sum = 0, max = 0;
       std::vector<double>& out = block_distances[b];
+      Vec3d p[kGroup];
+      double best2[kGroup];
+      size_t start[kGroup];
+      size_t count = 0;
+      auto flush = [&] {
+        target.nearest2_group(p, best2, start, count);
+        for (size_t k = 0; k < count; ++k) {
+          const double d = std::sqrt(best2[k]);
+          out.push_back(d);
+          sum += d;
+          max = std::max(max, d);
+        }
+        count = 0;
+      };
       for (size_t s = b * kSampleBlock, end = std::min(n, (b + 1) * kSampleBlock); s < end; ++s) {
-        Vec3d p;
         double bound;
-        size_t start;
-        if (!chosen(s, threshold) || !sample(s, p, bound, start)) continue;
-        const double d = distance(p, bound, start);
-        out.push_back(d);
-        sum += d;
-        max = std::max(max, d);
+        if (!chosen(s, threshold) || !sample(s, p[count], bound, start[count])) continue;
+        best2[count] = bound * bound;
+        if (++count == kGroup) flush();
       }
+      if (count > 0) flush();
       block_sum[b] = sum;
       block_max[b] = max;
     }

@@ -14,8 +14,11 @@
 //   makes them slower.
 // - The bound. Every sample has a counterpart on the other mesh (the same vertex, the same
 //   triangle's centroid) whose distance bounds its own, and a triangle at that distance: the
-//   query starts with the leaf holding that triangle and then searches the tree below the bound,
-//   so it looks at little besides the sample's own neighbourhood.
+//   search starts with the leaf holding that triangle, which usually holds the closest one too,
+//   and then looks only at leaves nearer than the best distance so far. Samples are searched in
+//   groups of 16 consecutive ones (close together, as the samples follow the vertex and triangle
+//   order): one walk down the tree finds the leaves near the whole group (16 % faster than a walk
+//   per sample on the phantom).
 // - The sample count. The mean and the 95th percentile are statistics of the sample distribution:
 //   above `statistic_samples` samples in one direction they are taken over a fixed pseudo-random
 //   subset of that many (the same for any thread count; at 2^20 the estimates are within 0.2 % of
