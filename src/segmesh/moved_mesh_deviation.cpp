@@ -3,7 +3,6 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <atomic>
@@ -104,12 +103,19 @@ class OrderedTree {
   // leaves, one walk down the tree collects the leaves near the whole group (within each point's
   // best distance so far), and each point tests only those. Samples taken in order are close
   // together, so the group shares one walk where single searches would each make their own.
-  void nearest2_group(const Vec3d* p, double* bound2, const size_t* start, size_t count) const {
+  // A point whose start leaf brings it to `enough2` or below stops there (see nearest2).
+  void nearest2_group(const Vec3d* p, double* bound2, const size_t* start, size_t count,
+                      double enough2 = -1) const {
     uint64_t start_leaf[kGroup];
+    bool active[kGroup];
+    bool any = false;
     Box region{{kInfF, kInfF, kInfF}, {-kInfF, -kInfF, -kInfF}};
     for (size_t k = 0; k < count; ++k) {
       start_leaf[k] = leaf_of(start[k]);
       test_leaf(p[k], start_leaf[k], bound2[k]);
+      active[k] = bound2[k] > enough2;
+      if (!active[k]) continue;
+      any = true;
       // The region holds every point's ball of its best distance (rounded outwards).
       const double r = std::sqrt(bound2[k]) * (1 + 1e-9);
       const double c[3] = {p[k].x, p[k].y, p[k].z};
@@ -118,6 +124,7 @@ class OrderedTree {
         region.hi[a] = std::max(region.hi[a], std::nextafter(float(c[a] + r), kInfF));
       }
     }
+    if (!any) return;
     const uint64_t first = (uint64_t{1} << levels_) - 1;
     uint64_t stack[64];
     int top = 0;
@@ -132,7 +139,7 @@ class OrderedTree {
       }
       const uint64_t leaf = node - first;
       for (size_t k = 0; k < count; ++k) {
-        if (leaf != start_leaf[k] && boxes_[node].distance2(p[k]) < bound2[k]) {
+        if (active[k] && leaf != start_leaf[k] && boxes_[node].distance2(p[k]) < bound2[k]) {
           test_leaf(p[k], leaf, bound2[k]);
         }
       }
@@ -293,8 +300,9 @@ Direction measure_direction(const std::vector<Vec3f>& from, const std::vector<Ve
   if (threshold >> 32) return dir;
 
   // The largest distance over the samples not measured yet: only those whose counterpart is
-  // farther than the largest distance found can exceed it; largest bound first, in batches, until
-  // the next bound is no larger than the largest distance.
+  // farther than the largest distance found can exceed it. The few with the largest bounds are
+  // searched first, alone, to raise the largest distance early; then the rest still above it, in
+  // sample order and in groups, each stopping at its start leaf when that shows it is no larger.
   struct Candidate {
     double bound;
     size_t sample;
@@ -310,26 +318,50 @@ Direction measure_direction(const std::vector<Vec3f>& from, const std::vector<Ve
         if (bound > dir.max) block_candidates[b].push_back({bound, s});
       }
   });
-  std::vector<Candidate> candidates;
-  for (auto& c : block_candidates) candidates.insert(candidates.end(), c.begin(), c.end());
-  block_candidates = {};
-  tbb::parallel_sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+  std::vector<Candidate> largest;
+  for (const auto& c : block_candidates) largest.insert(largest.end(), c.begin(), c.end());
+  constexpr size_t kFirst = 1024;
+  auto by_bound = [](const Candidate& a, const Candidate& b) {
     return a.bound > b.bound || (a.bound == b.bound && a.sample < b.sample);
-  });
-  constexpr size_t kBatch = 256;
-  for (size_t i = 0; i < candidates.size() && candidates[i].bound > dir.max; i += kBatch) {
-    const size_t end = std::min(candidates.size(), i + kBatch);
-    std::vector<double> found(end - i, 0.0);
-    tbb::parallel_for(i, end, [&](size_t c) {
-      if (!(candidates[c].bound > dir.max)) return;
-      Vec3d p;
-      double bound;
-      size_t start;
-      sample(candidates[c].sample, p, bound, start);
-      found[c - i] = std::sqrt(target.nearest2(p, bound * bound, start, dir.max * dir.max));
-    });
-    for (double d : found) dir.max = std::max(dir.max, d);
+  };
+  if (largest.size() > kFirst) {
+    std::nth_element(largest.begin(), largest.begin() + kFirst, largest.end(), by_bound);
+    largest.resize(kFirst);
   }
+  std::vector<double> found(largest.size(), 0.0);
+  tbb::parallel_for(size_t{0}, largest.size(), [&](size_t c) {
+    Vec3d p;
+    double bound;
+    size_t start;
+    sample(largest[c].sample, p, bound, start);
+    found[c] = std::sqrt(target.nearest2(p, bound * bound, start, dir.max * dir.max));
+  });
+  for (double d : found) dir.max = std::max(dir.max, d);
+  const double max = dir.max;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t b = r.begin(); b != r.end(); ++b) {
+      Vec3d p[kGroup];
+      double best2[kGroup];
+      size_t start[kGroup];
+      size_t count = 0;
+      double block = 0;
+      auto flush = [&] {
+        target.nearest2_group(p, best2, start, count, max * max);
+        for (size_t k = 0; k < count; ++k) block = std::max(block, std::sqrt(best2[k]));
+        count = 0;
+      };
+      for (const Candidate& c : block_candidates[b]) {
+        if (!(c.bound > max)) continue;
+        double bound;
+        sample(c.sample, p[count], bound, start[count]);
+        best2[count] = bound * bound;
+        if (++count == kGroup) flush();
+      }
+      if (count > 0) flush();
+      block_max[b] = block;
+    }
+  });
+  for (size_t b = 0; b < blocks; ++b) dir.max = std::max(dir.max, block_max[b]);
   return dir;
 }
 
