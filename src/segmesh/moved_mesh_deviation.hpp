@@ -9,8 +9,8 @@
 //   compact in space. The tree is built on that order: leaves of kOrderedLeaf consecutive
 //   triangles, axis-aligned boxes merged bottom-up, one pass over the triangles and no sort, no
 //   copy of the triangles (it reads the mesh's own arrays). On make_big.py's 5.2 M triangle bone
-//   this takes milliseconds where MeshDistance's median-split tree with oriented boxes takes
-//   2.5 s (docs/PERFORMANCE.md). Queries stay exact whatever the order; a scattered order only
+//   both trees take about 70 ms where MeshDistance's median-split tree with oriented boxes takes
+//   2.5 s for one (docs/PERFORMANCE.md). Queries stay exact whatever the order; a scattered order only
 //   makes them slower.
 // - The bound. Every sample has a counterpart on the other mesh (the same vertex, the same
 //   triangle's centroid) whose distance bounds its own, and a triangle at that distance: the
