@@ -51,6 +51,7 @@ MeshingOptions meshing_options(const MeshingArgs& args) {
 nlohmann::json meshing_json(const MeshingOptions& o, const std::string& label_names) {
   const SmoothOptions& s = o.smooth;
   nlohmann::json j = {{"method", method_name(o.method)},
+                      {"surfaces", surfaces_name(o.surfaces)},
                       {"labels", o.labels},
                       {"connectivity", o.connectivity},
                       {"min_voxels", o.min_voxels},

@@ -21,6 +21,16 @@ std::optional<Method> parse_method(std::string_view name) {
   return std::nullopt;
 }
 
+std::string_view surfaces_name(Surfaces surfaces) {
+  return surfaces == Surfaces::conforming ? "conforming" : "independent";
+}
+
+std::optional<Surfaces> parse_surfaces(std::string_view name) {
+  if (name == "independent") return Surfaces::independent;
+  if (name == "conforming") return Surfaces::conforming;
+  return std::nullopt;
+}
+
 std::string_view normals_name(NormalMethod normals) {
   return normals == NormalMethod::sobel ? "sobel" : "central";
 }
@@ -70,6 +80,17 @@ MeshingOptions resolve_meshing_options(MeshingOptions o) {
     fail("--dc-svd-eps must be between 0 and 1" + got(o.dc_svd_eps));
   if (!(o.dc_tolerance_mm >= 0) || !std::isfinite(o.dc_tolerance_mm)) {
     fail("--dc-tolerance must be a non-negative number of millimetres" + got(o.dc_tolerance_mm));
+  }
+  if (o.surfaces == Surfaces::conforming) {
+    if (o.method != Method::marching_cubes) {
+      fail("--surfaces conforming needs --method mc (Dual Contouring meshes each part on its own: "
+           "add --surfaces independent)");
+    }
+    if (o.iso) fail("--surfaces conforming meshes label maps; with --iso use --surfaces independent");
+    if (o.volume_sigma_mm > 0) {
+      fail("--presmooth smooths each part's own field; with --surfaces conforming smooth the mesh "
+           "instead (--smooth), or add --surfaces independent");
+    }
   }
   SmoothOptions& s = o.smooth;
   if (const auto problem = smooth_options_problem(s)) {
@@ -156,6 +177,18 @@ constexpr std::array kSpecs = {
                         if (!m)
                           throw Error("--method must be mc or dc (got \"" + std::string(t) + "\")");
                         o.method = *m;
+                      }},
+    MeshingOptionSpec{"surfaces", "TEXT",
+                      "independent (each part on its own) or conforming (contacts between parts "
+                      "meshed and smoothed once; Marching Cubes, label maps)",
+                      [](const O& o) { return std::string(surfaces_name(o.surfaces)); },
+                      [](O& o, std::string_view t) {
+                        const auto s = parse_surfaces(t);
+                        if (!s) {
+                          throw Error("--surfaces must be independent or conforming (got \"" +
+                                      std::string(t) + "\")");
+                        }
+                        o.surfaces = *s;
                       }},
     MeshingOptionSpec{"labels", "INT LIST",
                       "labels to mesh, e.g. 1,2 (default: every non-zero label)",

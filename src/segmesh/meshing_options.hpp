@@ -32,6 +32,15 @@ enum class Method { marching_cubes, dual_contouring };
 std::string_view method_name(Method method);  // "mc", "dc"
 std::optional<Method> parse_method(std::string_view name);
 std::string_view normals_name(NormalMethod normals);  // "central", "sobel"
+
+// How the parts of a label map are meshed: each on its own (independent: touching parts get two
+// surfaces that smoothing moves apart), or all at once as one surface whose contacts are meshed
+// once and smoothed once for both sides (conforming: multi_label_marching_cubes.hpp,
+// joint_smoothing.hpp; each part is still written as its own closed shell). Independent is the
+// default until conforming surfaces are whole (contacts in the report, Dual Contouring).
+enum class Surfaces { independent, conforming };
+std::string_view surfaces_name(Surfaces surfaces);  // "independent", "conforming"
+std::optional<Surfaces> parse_surfaces(std::string_view name);
 std::optional<NormalMethod> parse_normals(std::string_view name);
 
 // The smoothing `segmesh mesh` applies unless told otherwise: windowed sinc with unit gain, pass
@@ -43,6 +52,7 @@ SmoothOptions default_smoothing();
 
 struct MeshingOptions {
   Method method = Method::marching_cubes;
+  Surfaces surfaces = Surfaces::independent;  // conforming: Marching Cubes on label maps only
   std::vector<int32_t> labels;  // labels to mesh; empty: every non-zero label
   std::optional<double> iso;    // mesh a grey-value volume at this value instead of labels
   int connectivity = 26;        // voxel connectivity of parts: 6, 18 or 26

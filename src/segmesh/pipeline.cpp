@@ -16,6 +16,8 @@
 #include "segmesh/error.hpp"
 #include "segmesh/label_stats.hpp"
 #include "segmesh/extract_part.hpp"
+#include "segmesh/joint_smoothing.hpp"
+#include "segmesh/multi_label_marching_cubes.hpp"
 #include "segmesh/quality.hpp"
 
 namespace segmesh {
@@ -120,6 +122,15 @@ Part describe_part(const Image& image, const MeshingOptions& o, const Component&
   return part;
 }
 
+// Every part's mesh made anew from the scene's shared surface: its shell, with its own normals.
+void set_part_shells(Scene& scene) {
+  std::vector<TriMesh> shells = part_shells(*scene.surface);
+  tbb::parallel_for(size_t{0}, scene.parts.size(), [&](size_t p) {
+    compute_vertex_normals(shells[p]);
+    scene.parts[p].mesh = std::move(shells[p]);
+  });
+}
+
 }  // namespace
 
 std::string part_name(std::string_view base, int component) {
@@ -128,6 +139,11 @@ std::string part_name(std::string_view base, int component) {
 
 void smooth_scene(Scene& scene, const SmoothOptions& options, Progress& progress) {
   if (options.method == SmoothMethod::none) return;
+  if (scene.surface) {  // one surface for all parts: smoothed once, the shells cut again
+    smooth_jointly(*scene.surface, options, progress);
+    set_part_shells(scene);
+    return;
+  }
   // Each part's share of the step is its triangle count; smooth_mesh reports its iterations.
   std::vector<double> weights;
   for (const Part& part : scene.parts) weights.push_back(double(part.mesh.triangle_count()));
@@ -187,6 +203,15 @@ Scene extract_parts(const Image& image, const PipelineParts& parts, const Meshin
   // Each part's share of the step is its voxel count.
   std::vector<double> weights;
   for (size_t c : parts.kept) weights.push_back(double(components.components[c].voxels));
+  if (o.surfaces == Surfaces::conforming) {
+    for (size_t p = 0; p < parts.kept.size(); ++p) {
+      scene.parts[p] = describe_part(image, o, components.components[parts.kept[p]], grey);
+    }
+    scene.surface = multi_label_marching_cubes(image.grid(), components, parts.kept,
+                                               o.connectivity, progress);
+    set_part_shells(scene);
+    return scene;
+  }
   PartsProgress shared(progress, weights);
   const PartSource source{image, components, parts.range};
   // Dual Contouring's solved neighbourhoods, shared by the parts (dual_contouring.hpp).

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "segmesh/grid.hpp"
+#include "segmesh/labelled_surface.hpp"
 #include "segmesh/label_info.hpp"
 #include "segmesh/transform.hpp"
 #include "segmesh/tri_mesh.hpp"
@@ -53,6 +54,9 @@ struct ExtractedPositions {
 struct Scene {
   Grid grid;  // the source volume's grid
   std::vector<Part> parts;
+  // With --surfaces conforming: the one surface of all parts (material p + 1 is parts[p]); each part's
+  // mesh is its shell (part_shells), remade whenever the surface changes (smooth_scene).
+  std::optional<LabelledSurface> surface;
 };
 
 }  // namespace segmesh

@@ -36,42 +36,12 @@ void smooth_with(TriMesh& mesh, const SmoothOptions& options, int iterations, Pr
   const bool centred = options.method == SmoothMethod::sinc || options.preserve_volume;
   const Vec3d centre = centred ? box_centre(mesh.positions) : Vec3d{};
 
-  Ticker ticker(progress, iterations);
-  Smoother smoother(triangles, o, nv, ticker);
-  // Two buffers of four floats per vertex (three for the sinc), zero: every filter leaves its
-  // displacements in d and scratch zero again.
-  F4Buffer own_d(nv), own_scratch(nv);
-  std::optional<F4Buffer> own_l0;
-  F4* d = own_d.data();
-  F4* scratch = own_scratch.data();
-  double gain = 1;
-  switch (options.method) {
-    case SmoothMethod::laplacian:
-      smoother.laplacian(std::vector<double>(iterations, options.lambda), 1, d, scratch);
-      break;
-    case SmoothMethod::taubin: {
-      std::vector<double> factors;
-      for (int it = 0; it < iterations; ++it) {
-        factors.push_back(options.taubin_lambda);
-        factors.push_back(options.taubin_mu);
-      }
-      smoother.laplacian(factors, 2, d, scratch);
-      break;
-    }
-    case SmoothMethod::hc:
-      smoother.hc(iterations, options.alpha, options.beta, scratch, d);
-      break;
-    case SmoothMethod::sinc:
-      own_l0.emplace(nv);
-      gain = smoother.sinc(
-          windowed_sinc_coefficients(iterations, options.pass_band, options.sinc_unit_gain), d,
-          scratch, own_l0->data());
-      break;
-    case SmoothMethod::none:
-      break;
-  }
+  FilterRun run = run_filter(triangles, o, nv, options, iterations, progress);
+  F4* d = run.d;
+  F4* scratch = run.scratch;
+  const double gain = run.gain;
   // The triangle counts ride in the fourth lane of the sinc's L0, of the displacements otherwise.
-  const F4* counts = own_l0 ? own_l0->data() : d;
+  const F4* counts = run.counts();
   // Vertices in no triangle with three distinct corners keep their positions.
   auto has_triangles = [&](size_t i) { return counts[i][3] > 0; };
   if (!options.preserve_volume) {
@@ -91,7 +61,7 @@ void smooth_with(TriMesh& mesh, const SmoothOptions& options, int iterations, Pr
       d[i] = F4{static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z),
                 counts[i][3]};
     });
-    own_l0.reset();
+    run.own_l0.reset();
     const Restoration r = restore_volume(triangles, idx, o, centre, d, nv, scratch);
     // The positions, and scratch (the normals) zero again for write_normals.
     const bool moved = r.delta != 0;

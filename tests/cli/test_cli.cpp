@@ -113,6 +113,38 @@ TEST(Cli, DualContouringWithPresmoothingAndSimplificationGivesClosedParts) {
   EXPECT_NE(bad.err.find("--method must be mc or dc"), std::string::npos) << bad.err;
 }
 
+// --surfaces conforming: the parts of the label map as one surface smoothed jointly; the report
+// says which surfaces ran; a bad name, Dual Contouring or --iso are refused in one line.
+TEST(Cli, ConformingSurfacesGiveClosedPartsAndSayWhichRan) {
+  const fs::path dir = test::scratch_dir("cli_conforming");
+  const fs::path phantom = small_phantom("cli_conforming");
+  const auto r = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "c.glb") +
+                             " --surfaces conforming --report " + q(dir / "c.json") + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(dir / "c.json");
+  const auto report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["options"]["surfaces"], "conforming");
+  EXPECT_EQ(report["parts"].size(), 10u);
+  EXPECT_TRUE(report["totals"]["all_closed"].get<bool>());
+  for (const auto& part : report["parts"]) EXPECT_EQ(part["shells"], 1) << part["name"];
+  struct Case {
+    std::string options, message;
+  };
+  for (const Case& c : {Case{"--surfaces shared", "--surfaces must be independent or conforming"},
+                        Case{"--surfaces conforming --method dc", "needs --method mc"},
+                        Case{"--surfaces conforming --iso 1", "meshes label maps"}}) {
+    const auto bad = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "x.glb") + " " + c.options);
+    EXPECT_EQ(bad.exit_code, 2) << c.options;
+    EXPECT_NE(bad.err.find(c.message), std::string::npos) << c.options << ": " << bad.err;
+    EXPECT_FALSE(fs::exists(dir / "x.glb"));
+  }
+  const auto plain = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "i.glb") +
+                                 " --report " + q(dir / "i.json") + " --quiet");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  std::ifstream in2(dir / "i.json");
+  EXPECT_EQ(nlohmann::json::parse(in2)["options"]["surfaces"], "independent");
+}
+
 // Without --iterations each smoothing method runs its own default count (HC 2, Taubin 20, the
 // default windowed sinc 20), reported as such; --iterations overrides it.
 TEST(Cli, SmoothingIterationsDefaultPerMethod) {

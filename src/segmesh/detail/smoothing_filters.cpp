@@ -4,7 +4,8 @@
 
 namespace segmesh {
 
-void Smoother::add_umbrella(const F4* d, F4* acc, bool count) const {
+template <class Keep>
+void Smoother::add_umbrella_to(const F4* d, F4* acc, bool count, Keep&& keep) const {
   const F4 one = count ? F4{0, 0, 0, 1} : F4{};
   t_.each_proper([&](uint32_t a, uint32_t b, uint32_t c) {
     const F4 oa = load3(o_[a]);
@@ -14,19 +15,50 @@ void Smoother::add_umbrella(const F4* d, F4* acc, bool count) const {
       ac += d[c] - d[a];
     }
     const F4 bc = ac - ab;
-    acc[a] += ab + ac + one;
-    acc[b] += bc - ab + one;
-    acc[c] += one - ac - bc;
+    if (keep(a)) acc[a] += ab + ac + one;
+    if (keep(b)) acc[b] += bc - ab + one;
+    if (keep(c)) acc[c] += one - ac - bc;
   });
 }
 
-void Smoother::add_neighbours(const F4* x, F4* acc) const {
+template <class Keep>
+void Smoother::add_neighbours_to(const F4* x, F4* acc, Keep&& keep) const {
   t_.each_proper([&](uint32_t a, uint32_t b, uint32_t c) {
     const F4 xa = x[a], xb = x[b], xc = x[c];
-    acc[a] += xb + xc;
-    acc[b] += xa + xc;
-    acc[c] += xa + xb;
+    if (keep(a)) acc[a] += xb + xc;
+    if (keep(b)) acc[b] += xa + xc;
+    if (keep(c)) acc[c] += xa + xb;
   });
+}
+
+void Smoother::add_umbrella(const F4* d, F4* acc, bool count) const {
+  if (!topology_) {
+    add_umbrella_to(d, acc, count, [](uint32_t) { return true; });
+    return;
+  }
+  const SmoothRole* role = topology_->role.data();
+  add_umbrella_to(d, acc, count, [&](uint32_t v) { return role[v] == SmoothRole::kSheet; });
+  // A curve edge as one triangle at each curve end: its neighbour twice, one count.
+  const F4 one = count ? F4{0, 0, 0, 1} : F4{};
+  for (const auto& [a, b] : topology_->curve_edges) {
+    F4 ab = load3(o_[b]) - load3(o_[a]);
+    if (d) ab += d[b] - d[a];
+    if (role[a] == SmoothRole::kCurve) acc[a] += ab + ab + one;
+    if (role[b] == SmoothRole::kCurve) acc[b] += one - ab - ab;
+  }
+}
+
+void Smoother::add_neighbours(const F4* x, F4* acc) const {
+  if (!topology_) {
+    add_neighbours_to(x, acc, [](uint32_t) { return true; });
+    return;
+  }
+  const SmoothRole* role = topology_->role.data();
+  add_neighbours_to(x, acc, [&](uint32_t v) { return role[v] == SmoothRole::kSheet; });
+  for (const auto& [a, b] : topology_->curve_edges) {
+    if (role[a] == SmoothRole::kCurve) acc[a] += x[b] + x[b];
+    if (role[b] == SmoothRole::kCurve) acc[b] += x[a] + x[a];
+  }
 }
 
 void Smoother::laplacian(const std::vector<double>& factors, size_t per_tick, F4*& d,
@@ -136,6 +168,44 @@ double Smoother::sinc(const std::vector<double>& c, F4*& d, F4*& scratch, F4* l0
   d = cur;  // the result
   scratch = prev;
   return gain;
+}
+
+FilterRun run_filter(const Triangles& triangles, const Vec3f* o, size_t nv,
+                     const SmoothOptions& options, int iterations, Progress& progress,
+                     const SmoothTopology* topology) {
+  Ticker ticker(progress, iterations);
+  Smoother smoother(triangles, o, nv, ticker, topology);
+  // Two buffers of four floats per vertex (three for the sinc), zero: every filter leaves its
+  // displacements in d and scratch zero again.
+  FilterRun run;
+  run.d = run.own_d.emplace(nv).data();
+  run.scratch = run.own_scratch.emplace(nv).data();
+  switch (options.method) {
+    case SmoothMethod::laplacian:
+      smoother.laplacian(std::vector<double>(iterations, options.lambda), 1, run.d, run.scratch);
+      break;
+    case SmoothMethod::taubin: {
+      std::vector<double> factors;
+      for (int it = 0; it < iterations; ++it) {
+        factors.push_back(options.taubin_lambda);
+        factors.push_back(options.taubin_mu);
+      }
+      smoother.laplacian(factors, 2, run.d, run.scratch);
+      break;
+    }
+    case SmoothMethod::hc:
+      smoother.hc(iterations, options.alpha, options.beta, run.scratch, run.d);
+      break;
+    case SmoothMethod::sinc:
+      run.own_l0.emplace(nv);
+      run.gain = smoother.sinc(
+          windowed_sinc_coefficients(iterations, options.pass_band, options.sinc_unit_gain), run.d,
+          run.scratch, run.own_l0->data());
+      break;
+    case SmoothMethod::none:
+      break;
+  }
+  return run;
 }
 
 }  // namespace segmesh

@@ -3,11 +3,15 @@
 // (smoothing_sweeps.hpp) in buffers of four floats per vertex (float4.hpp).
 #pragma once
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "segmesh/detail/float4.hpp"
 #include "segmesh/detail/smoothing_sweeps.hpp"
+#include "segmesh/smoothing.hpp"
 
 namespace segmesh {
 
@@ -21,10 +25,23 @@ namespace segmesh {
 // to its own old value are made ready by the pass before (the accumulator is preset with the
 // rest of the update, scaled by 2 c_i), so every filter runs in two buffers (three for the sinc).
 // The count c_i rides in the fourth lane of a buffer that the sweep does not add into.
+//
+// Joint smoothing of a surface shared by several parts (joint_smoothing.hpp) changes whose
+// neighbours a vertex averages, nothing else: a sheet vertex (kSheet) averages over its
+// triangles as above, a vertex on a junction curve (kCurve) over its two neighbours along the
+// curve only, each curve edge counting as one triangle (its neighbour twice), and a fixed vertex
+// (kFixed: where curves meet or end) has no neighbours, so it stays where it is.
+enum class SmoothRole : uint8_t { kSheet, kCurve, kFixed };
+struct SmoothTopology {
+  std::vector<SmoothRole> role;                     // per vertex
+  std::vector<std::array<uint32_t, 2>> curve_edges;  // the edges of the junction curves
+};
+
 class Smoother {
  public:
-  Smoother(const Triangles& triangles, const Vec3f* original, size_t n, Ticker& ticker)
-      : t_(triangles), o_(original), n_(n), ticker_(ticker) {}
+  Smoother(const Triangles& triangles, const Vec3f* original, size_t n, Ticker& ticker,
+           const SmoothTopology* topology = nullptr)
+      : t_(triangles), o_(original), n_(n), ticker_(ticker), topology_(topology) {}
 
   // Laplacian steps p' = p + f L(p), one per factor: D' = D + f L(o + D). `per_tick` factors
   // make one iteration. d holds D and the counts, scratch is zero; afterwards the same.
@@ -62,10 +79,32 @@ class Smoother {
   // acc_i += S(x)_i = 2 c_i avg_j x_j.
   void add_neighbours(const F4* x, F4* acc) const;
 
+  // The triangles' terms added to the corners that pass keep(corner).
+  template <class Keep>
+  void add_umbrella_to(const F4* d, F4* acc, bool count, Keep&& keep) const;
+  template <class Keep>
+  void add_neighbours_to(const F4* x, F4* acc, Keep&& keep) const;
+
   const Triangles& t_;
   const Vec3f* o_;
   size_t n_;
   Ticker& ticker_;
+  const SmoothTopology* topology_;  // nullptr: every vertex averages over its triangles
 };
+
+// A filter run on one mesh: the displacements it leaves and where the triangle counts are.
+struct FilterRun {
+  std::optional<F4Buffer> own_d, own_scratch, own_l0;
+  F4* d = nullptr;        // the displacements (x, y, z) and, without l0, the counts (w)
+  F4* scratch = nullptr;  // zero
+  double gain = 1;        // the sinc's f(0): positions scale by it about the centre
+  const F4* counts() const { return own_l0 ? own_l0->data() : d; }
+};
+
+// Runs options.method for `iterations` on the n positions o over `triangles` (and `topology`
+// when given): the displacement filters of Smoother in two or three fresh buffers.
+FilterRun run_filter(const Triangles& triangles, const Vec3f* o, size_t n,
+                     const SmoothOptions& options, int iterations, Progress& progress,
+                     const SmoothTopology* topology = nullptr);
 
 }  // namespace segmesh

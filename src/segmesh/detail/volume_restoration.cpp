@@ -17,17 +17,16 @@ Restoration restore_volume(const Triangles& t, const std::vector<uint32_t>& idx,
     VolumeCubic s;
     for (size_t t = t0; t < t1; ++t) {
       const uint32_t* x = &idx[3 * t];
-      s.original += dot(original(x[0]), cross(original(x[1]), original(x[2])));
-      const Vec3d a = xyz_d(smoothed[x[0]]), b = xyz_d(smoothed[x[1]]), c = xyz_d(smoothed[x[2]]);
-      const Vec3d na = xyz_d(normal[x[0]]), nb = xyz_d(normal[x[1]]), nc = xyz_d(normal[x[2]]);
-      const Vec3d bc = cross(b, c), nbc = cross(nb, c), bnc = cross(b, nc), nbnc = cross(nb, nc);
-      s.k0 += dot(a, bc);
-      s.k1 += dot(na, bc) + dot(a, nbc) + dot(a, bnc);
-      s.k2 += dot(na, nbc) + dot(na, bnc) + dot(a, nbnc);
-      s.k3 += dot(na, nbnc);
+      add_triangle_cubic(s, original(x[0]), original(x[1]), original(x[2]), xyz_d(smoothed[x[0]]),
+                         xyz_d(smoothed[x[1]]), xyz_d(smoothed[x[2]]), xyz_d(normal[x[0]]),
+                         xyz_d(normal[x[1]]), xyz_d(normal[x[2]]));
     }
     return s;
   });
+  return solve_restoration(k);
+}
+
+Restoration solve_restoration(const VolumeCubic& k) {
   const double target = k.original, volume = k.k0;  // both times 6
   if (!(target > 0)) return {};  // not a closed outward-wound surface: nothing to restore
   if (volume < 0.25 * target) return {.keep_original = true};

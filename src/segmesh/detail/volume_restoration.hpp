@@ -25,6 +25,23 @@ struct Restoration {
   double delta = 0;  // offset along the unit normals
 };
 
+// Triangle (a, b, c)'s terms of the cubic: original corners o0 o1 o2, smoothed a b c with unit
+// normals na nb nc (all relative to one centre).
+inline void add_triangle_cubic(VolumeCubic& s, Vec3d o0, Vec3d o1, Vec3d o2, Vec3d a, Vec3d b,
+                               Vec3d c, Vec3d na, Vec3d nb, Vec3d nc) {
+  s.original += dot(o0, cross(o1, o2));
+  const Vec3d bc = cross(b, c), nbc = cross(nb, c), bnc = cross(b, nc), nbnc = cross(nb, nc);
+  s.k0 += dot(a, bc);
+  s.k1 += dot(na, bc) + dot(a, nbc) + dot(a, bnc);
+  s.k2 += dot(na, nbc) + dot(na, bnc) + dot(a, nbnc);
+  s.k3 += dot(na, nbnc);
+}
+
+// The offset that gives a closed surface with cubic k its original volume back (Newton's method
+// from 0), or keep_original where it lost more than three quarters of it; nothing where it
+// encloses no positive volume or already has its volume.
+Restoration solve_restoration(const VolumeCubic& k);
+
 // Gives the smoothed positions s(i) the enclosed volume V0 of the original ones o(i) (both
 // relative to one centre, for well-conditioned sums): every vertex moves along its area-weighted
 // unit normal (into `normal`) by the one offset delta that restores it. The volume after the move

@@ -1,0 +1,152 @@
+// Conforming surfaces (--surfaces conforming): the parts of a label map extracted as one surface
+// and smoothed jointly (joint_smoothing.hpp) through build_scene. Contacts stay exact through
+// smoothing, every part's shell stays closed, manifold and outward, and the volumes stay those of
+// the independent path.
+#include "segmesh/joint_smoothing.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "segmesh/mesh_distance.hpp"
+#include "segmesh/mesh_measures.hpp"
+#include "segmesh/phantom.hpp"
+#include "segmesh/pipeline.hpp"
+#include "segmesh/quality.hpp"
+
+namespace segmesh {
+namespace {
+
+Image image_of(LabelVolume v) {
+  Image image;
+  image.path = "test";
+  image.voxel_type = "uint8";
+  image.volume = std::move(v);
+  return image;
+}
+
+// A 40 x 40 x 40 voxel bone block (label 1, 0.5 mm voxels) with a screw (label 2): a shaft of
+// radius 3 voxels along z through most of the block and a head above it, in the background.
+LabelVolume screw_in_block() {
+  LabelVolume v;
+  v.grid.dims = {48, 48, 56};
+  v.grid.spacing = {0.5, 0.5, 0.5};
+  v.voxels.assign(v.grid.voxel_count(), 0);
+  for (int64_t k = 0; k < 56; ++k)
+    for (int64_t j = 0; j < 48; ++j)
+      for (int64_t i = 0; i < 48; ++i) {
+        const double r = std::hypot(double(i) - 23.5, double(j) - 23.5);
+        uint8_t label = 0;
+        if (i >= 4 && i < 44 && j >= 4 && j < 44 && k >= 4 && k < 44) label = 1;
+        if (k >= 10 && k < 48 && r < 3.2) label = 2;     // the shaft
+        if (k >= 44 && k < 48 && r < 6.2) label = 2;     // the head, on the block
+        v.at(i, j, k) = label;
+      }
+  return v;
+}
+
+// The vertices of the shared surface on a contact between two parts (not the background).
+std::vector<Vec3d> contact_vertices(const LabelledSurface& s) {
+  std::vector<char> on(s.mesh.positions.size(), 0);
+  for (size_t t = 0; t < s.sides.size(); ++t) {
+    if (s.sides[t][0] == 0 || s.sides[t][1] == 0) continue;
+    for (int k = 0; k < 3; ++k) on[s.mesh.indices[3 * t + size_t(k)]] = 1;
+  }
+  std::vector<Vec3d> out;
+  for (size_t v = 0; v < on.size(); ++v)
+    if (on[v]) out.push_back(to_double(s.mesh.positions[v]));
+  return out;
+}
+
+void expect_sound_shells(const Scene& scene) {
+  for (const Part& part : scene.parts) {
+    const MeshMeasures m = measure_mesh(part.mesh);
+    EXPECT_TRUE(m.closed()) << part.name;
+    EXPECT_EQ(m.nonmanifold_vertices, 0) << part.name;
+    EXPECT_EQ(m.shells, 1) << part.name;
+    EXPECT_GT(m.volume_mm3, 0) << part.name;  // outward
+    EXPECT_EQ(part.mesh.normals.size(), part.mesh.positions.size()) << part.name;
+  }
+}
+
+TEST(JointSmoothing, AScrewStaysInContactWithItsBlockThroughEverySmoothing) {
+  const Image image = image_of(screw_in_block());
+  for (SmoothMethod method :
+       {SmoothMethod::sinc, SmoothMethod::hc, SmoothMethod::taubin, SmoothMethod::laplacian}) {
+    MeshingOptions o;
+    o.surfaces = Surfaces::conforming;
+    o.smooth = default_smoothing();
+    o.smooth.method = method;
+    const Scene scene = build_scene(image, o);
+    ASSERT_EQ(scene.parts.size(), 2u);
+    ASSERT_TRUE(scene.surface.has_value());
+    expect_sound_shells(scene);
+    const std::vector<Vec3d> contact = contact_vertices(*scene.surface);
+    ASSERT_GT(contact.size(), 100u);
+    const MeshDistance block(scene.parts[0].mesh), screw(scene.parts[1].mesh);
+    double worst = 0;
+    for (const Vec3d& p : contact) worst = std::max({worst, block.distance(p), screw.distance(p)});
+    EXPECT_LT(worst, 1e-4) << smooth_method_name(method);
+
+    // The independent path on the same map leaves the two sides apart.
+    o.surfaces = Surfaces::independent;
+    const Scene apart = build_scene(image, o);
+    const MeshDistance block_apart(apart.parts[0].mesh);
+    std::vector<double> gaps;
+    for (const Vec3f& p : apart.parts[1].mesh.positions) {
+      const double d = block_apart.distance(to_double(p));
+      if (d < 0.5) gaps.push_back(d);  // the screw's side of the contact
+    }
+    ASSERT_FALSE(gaps.empty());
+    EXPECT_GT(percentile(gaps, 0.9), 0.01) << smooth_method_name(method);
+  }
+}
+
+TEST(JointSmoothing, ThePhantomKeepsItsContactsAndVolumes) {
+  const Image image = image_of(make_phantom({.size = {256, 256, 102}, .spacing = {0.394, 0.394, 4}}));
+  MeshingOptions o;
+  o.surfaces = Surfaces::conforming;
+  const Scene conforming = build_scene(image, o);
+  o.surfaces = Surfaces::independent;
+  const Scene independent = build_scene(image, o);
+  ASSERT_EQ(conforming.parts.size(), independent.parts.size());
+  expect_sound_shells(conforming);
+  for (size_t p = 0; p < conforming.parts.size(); ++p) {
+    EXPECT_EQ(conforming.parts[p].name, independent.parts[p].name);
+    const double a = enclosed_volume(conforming.parts[p].mesh);
+    const double b = enclosed_volume(independent.parts[p].mesh);
+    // Bulky parts (the bones and the plate) keep their volume to 1 % as on their own.
+    if (conforming.parts[p].voxels > 10000) EXPECT_NEAR(a, b, 0.01 * b) << conforming.parts[p].name;
+  }
+  // Every implant vertex on the bone contact is on both surfaces after the default smoothing.
+  const std::vector<Vec3d> contact = contact_vertices(*conforming.surface);
+  ASSERT_GT(contact.size(), 1000u);
+  std::vector<MeshDistance> shells;
+  for (const Part& part : conforming.parts) shells.emplace_back(part.mesh);
+  size_t on_two = 0;
+  for (const Vec3d& p : contact) {
+    int near = 0;
+    for (const MeshDistance& s : shells) near += s.distance(p) < 1e-4;
+    on_two += near >= 2;
+  }
+  EXPECT_EQ(on_two, contact.size());
+}
+
+TEST(JointSmoothing, RefusesWhatItCannotDo) {
+  MeshingOptions o;
+  o.surfaces = Surfaces::conforming;
+  o.method = Method::dual_contouring;
+  EXPECT_THROW(resolve_meshing_options(o), Error);
+  o.method = Method::marching_cubes;
+  o.iso = 100.0;
+  EXPECT_THROW(resolve_meshing_options(o), Error);
+  o.iso.reset();
+  EXPECT_NO_THROW(resolve_meshing_options(o));
+  EXPECT_EQ(parse_surfaces("conforming"), Surfaces::conforming);
+  EXPECT_EQ(parse_surfaces("independent"), Surfaces::independent);
+  EXPECT_FALSE(parse_surfaces("shared").has_value());
+}
+
+}  // namespace
+}  // namespace segmesh
