@@ -126,7 +126,7 @@ int run_mesh(const MeshArgs& args) {
   // the table; quality, volume change and smoothing deviation for the report too). They run
   // beside the write (writing is mostly serial encoding and the kernel's copy), and not at all
   // with --quiet and no report. The extracted positions go as soon as they are measured.
-  std::vector<PartMeasures> measures;
+  SceneMeasures measures;
   tbb::task_group measuring;
   if (!args.quiet || report) {
     measuring.run([&] {
@@ -170,7 +170,7 @@ int run_mesh(const MeshArgs& args) {
   }
   t.total = ms_since(start);
   if (!args.quiet) {
-    std::printf("%s", summary_table(scene, measures).c_str());
+    std::printf("%s", summary_table(scene, measures.parts).c_str());
     std::printf("%zu parts", scene.parts.size());
     if (pipeline.dropped_components > 0) {
       std::printf(" (%lld components below --min-voxels dropped)",

@@ -1,5 +1,6 @@
 #include "mesh_report.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "cli_common.hpp"
@@ -8,8 +9,9 @@ namespace segmesh::cli {
 
 nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, const Timings& t,
                            const PipelineStats& stats, const Scene& scene,
-                           const std::vector<PartMeasures>& measures,
+                           const SceneMeasures& scene_measures,
                            const std::vector<std::string>& outputs) {
+  const std::vector<PartMeasures>& measures = scene_measures.parts;
   nlohmann::json input = grid_json(image.grid());
   input["path"] = image.path;
   input["type"] = image.voxel_type;
@@ -56,6 +58,18 @@ nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, co
     voxel_volume += part.voxel_volume_mm3;
     all_closed = all_closed && m.closed();
   }
+  // Contacts are measured on conforming surfaces only; null says they were not.
+  nlohmann::json contacts = nullptr;
+  double max_gap = 0;
+  if (scene.surface) {
+    contacts = nlohmann::json::array();
+    for (const ContactMeasures& c : scene_measures.contacts) {
+      contacts.push_back({{"parts", {scene.parts[c.a].name, scene.parts[c.b].name}},
+                          {"area_mm2", c.area_mm2},
+                          {"max_gap_mm", c.max_gap_mm}});
+      max_gap = std::max(max_gap, c.max_gap_mm);
+    }
+  }
   return {{"input", input},
           {"options", options},
           {"timings_ms",
@@ -70,6 +84,7 @@ nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, co
             {"total", t.total}}},
           {"outputs", outputs},
           {"parts", parts},
+          {"contacts", contacts},
           {"totals",
            {{"parts", scene.parts.size()},
             {"vertices", vertices},
@@ -80,7 +95,11 @@ nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, co
             {"volume_mm3", volume},
             {"all_closed", all_closed},
             {"dropped_components", stats.dropped_components},
-            {"presmooth_fallbacks", stats.presmooth_fallbacks}}}};
+            {"presmooth_fallbacks", stats.presmooth_fallbacks},
+            {"contacts", scene.surface ? nlohmann::json(scene_measures.contacts.size())
+                                       : nlohmann::json(nullptr)},
+            {"max_contact_gap_mm",
+             scene.surface ? nlohmann::json(max_gap) : nlohmann::json(nullptr)}}}};
 }
 
 std::string summary_table(const Scene& scene, const std::vector<PartMeasures>& measures) {

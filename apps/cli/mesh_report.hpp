@@ -1,7 +1,7 @@
 // The JSON report of `segmesh mesh --report` and the summary table it prints, both from the
 // parts' measures (segmesh/scene_measures.hpp): per part the topology checks, radii ratio, the
 // volume change smoothing made and how far it moved the surface (null deviation, zero change,
-// when not smoothed).
+// when not smoothed), and with conforming surfaces every contact's area and largest gap.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -26,7 +26,7 @@ struct Timings {
 
 nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, const Timings& timings,
                            const PipelineStats& stats, const Scene& scene,
-                           const std::vector<PartMeasures>& measures,
+                           const SceneMeasures& measures,
                            const std::vector<std::string>& outputs);
 
 // A table of the parts for stdout.

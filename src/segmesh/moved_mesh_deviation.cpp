@@ -10,6 +10,7 @@
 #include <limits>
 #include <optional>
 
+#include "segmesh/detail/ordered_triangle_tree.hpp"
 #include "segmesh/quality.hpp"
 
 namespace segmesh {
@@ -17,195 +18,11 @@ namespace segmesh {
 namespace {
 
 constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
-constexpr float kInfF = std::numeric_limits<float>::infinity();
-
-// Consecutive triangles per leaf: fewer leaves mean less tree to store and walk, more triangles
-// per leaf more exact tests per query; 16 measured fastest on the phantom and make_big.py's map.
-constexpr size_t kOrderedLeaf = 16;
-
-// A box's squared distance is scaled by this before it is compared: the box bounds are exact
-// (minima and maxima of the float corners), so only the rounding of the double sums matters.
-constexpr double kBoxShrink = 1 - 1e-12;
-
-// Points searched together (OrderedTree::nearest2_group): enough to share a walk down the tree,
-// few enough that they lie close together.
-constexpr size_t kGroup = 16;
 
 // Samples per block of the sums and lists: fixed blocks make the results independent of the
 // number of threads.
 constexpr size_t kSampleBlock = 4096;
 
-// The closest triangles of a mesh, in a tree over the triangles' own order (header comment).
-class OrderedTree {
- public:
-  OrderedTree(const Vec3f* pos, const uint32_t* idx, size_t n) : pos_(pos), idx_(idx), n_(n) {
-    while (((n_ - 1) >> levels_) + 1 > kOrderedLeaf) ++levels_;
-    const uint64_t leaves = uint64_t{1} << levels_;
-    boxes_.resize(2 * leaves - 1);
-    const uint64_t first = leaves - 1;
-    tbb::parallel_for(tbb::blocked_range<uint64_t>(0, leaves),
-                      [&](const tbb::blocked_range<uint64_t>& r) {
-                        for (uint64_t j = r.begin(); j != r.end(); ++j) {
-                          Box b{{kInfF, kInfF, kInfF}, {-kInfF, -kInfF, -kInfF}};
-                          for (size_t t = leaf_begin(j); t < leaf_begin(j + 1); ++t)
-                            for (int k = 0; k < 3; ++k) b.add(pos_[idx_[3 * t + k]]);
-                          boxes_[first + j] = b;
-                        }
-                      });
-    for (int d = levels_ - 1; d >= 0; --d) {
-      const uint64_t begin = (uint64_t{1} << d) - 1, end = (uint64_t{2} << d) - 1;
-      tbb::parallel_for(tbb::blocked_range<uint64_t>(begin, end, 1024),
-                        [&](const tbb::blocked_range<uint64_t>& r) {
-                          for (uint64_t i = r.begin(); i != r.end(); ++i) {
-                            Box b = boxes_[2 * i + 1];
-                            b.merge(boxes_[2 * i + 2]);
-                            boxes_[i] = b;
-                          }
-                        });
-    }
-  }
-
-  // The squared distance from p to the closest triangle when it is below bound2, else bound2.
-  // The search starts with the leaf of triangle `start`, where the closest one usually is.
-  // When the start leaf alone brings it to `enough2` or below, that is returned: a caller that
-  // only needs to know whether the distance exceeds a value skips the rest of the search.
-  double nearest2(Vec3d p, double bound2, size_t start, double enough2 = -1) const {
-    double best = bound2;
-    const uint64_t first = (uint64_t{1} << levels_) - 1;
-    const uint64_t start_leaf = leaf_of(start);
-    test_leaf(p, start_leaf, best);
-    if (best <= enough2) return best;
-    struct Entry {
-      uint64_t node;
-      double distance2;
-    };
-    Entry stack[64];
-    int top = 0;
-    stack[top++] = {0, box_distance2(0, p)};
-    while (top > 0) {
-      const Entry e = stack[--top];
-      if (!(e.distance2 < best)) continue;
-      if (e.node >= first) {
-        if (e.node - first != start_leaf) test_leaf(p, e.node - first, best);
-        continue;
-      }
-      Entry near{2 * e.node + 1, box_distance2(2 * e.node + 1, p)};
-      Entry far{2 * e.node + 2, box_distance2(2 * e.node + 2, p)};
-      if (far.distance2 < near.distance2) std::swap(near, far);
-      if (far.distance2 < best) stack[top++] = far;
-      if (near.distance2 < best) stack[top++] = near;
-    }
-    return best;
-  }
-
-  // The squared distances of a group of nearby points (up to kGroup), each below its bound2[k]
-  // (else bound2[k]), each search starting with the leaf of triangle start[k]: after the start
-  // leaves, one walk down the tree collects the leaves near the whole group (within each point's
-  // best distance so far), and each point tests only those. Samples taken in order are close
-  // together, so the group shares one walk where single searches would each make their own.
-  // A point whose start leaf brings it to `enough2` or below stops there (see nearest2).
-  void nearest2_group(const Vec3d* p, double* bound2, const size_t* start, size_t count,
-                      double enough2 = -1) const {
-    uint64_t start_leaf[kGroup];
-    bool active[kGroup];
-    bool any = false;
-    Box region{{kInfF, kInfF, kInfF}, {-kInfF, -kInfF, -kInfF}};
-    for (size_t k = 0; k < count; ++k) {
-      start_leaf[k] = leaf_of(start[k]);
-      test_leaf(p[k], start_leaf[k], bound2[k]);
-      active[k] = bound2[k] > enough2;
-      if (!active[k]) continue;
-      any = true;
-      // The region holds every point's ball of its best distance (rounded outwards).
-      const double r = std::sqrt(bound2[k]) * (1 + 1e-9);
-      const double c[3] = {p[k].x, p[k].y, p[k].z};
-      for (int a = 0; a < 3; ++a) {
-        region.lo[a] = std::min(region.lo[a], std::nextafter(float(c[a] - r), -kInfF));
-        region.hi[a] = std::max(region.hi[a], std::nextafter(float(c[a] + r), kInfF));
-      }
-    }
-    if (!any) return;
-    const uint64_t first = (uint64_t{1} << levels_) - 1;
-    uint64_t stack[64];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-      const uint64_t node = stack[--top];
-      if (!boxes_[node].overlaps(region)) continue;
-      if (node < first) {
-        stack[top++] = 2 * node + 2;
-        stack[top++] = 2 * node + 1;
-        continue;
-      }
-      const uint64_t leaf = node - first;
-      for (size_t k = 0; k < count; ++k) {
-        if (active[k] && leaf != start_leaf[k] && boxes_[node].distance2(p[k]) < bound2[k]) {
-          test_leaf(p[k], leaf, bound2[k]);
-        }
-      }
-    }
-  }
-
- private:
-  struct Box {
-    float lo[3], hi[3];
-    bool overlaps(const Box& o) const {
-      for (int a = 0; a < 3; ++a)
-        if (lo[a] > o.hi[a] || o.lo[a] > hi[a]) return false;
-      return true;
-    }
-    void add(Vec3f v) {
-      const float c[3] = {v.x, v.y, v.z};
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = std::min(lo[a], c[a]);
-        hi[a] = std::max(hi[a], c[a]);
-      }
-    }
-    double distance2(Vec3d p) const {
-      const double q[3] = {p.x, p.y, p.z};
-      double d2 = 0;
-      for (int a = 0; a < 3; ++a) {
-        const double d = std::max({double(lo[a]) - q[a], q[a] - double(hi[a]), 0.0});
-        d2 += d * d;
-      }
-      return d2 * kBoxShrink;
-    }
-    void merge(const Box& o) {
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = std::min(lo[a], o.lo[a]);
-        hi[a] = std::max(hi[a], o.hi[a]);
-      }
-    }
-  };
-
-  size_t leaf_begin(uint64_t leaf) const { return (leaf * n_) >> levels_; }
-  // The leaf j with leaf_begin(j) <= t < leaf_begin(j + 1).
-  uint64_t leaf_of(size_t t) const {
-    return (((uint64_t{t} + 1) << levels_) + n_ - 1) / n_ - 1;
-  }
-
-  double box_distance2(uint64_t node, Vec3d p) const { return boxes_[node].distance2(p); }
-
-  // Each triangle's own box is tried first: most triangles of a leaf are farther than the best
-  // distance, and the box rejects them at a fraction of the exact test's cost.
-  void test_leaf(Vec3d p, uint64_t leaf, double& best) const {
-    for (size_t t = leaf_begin(leaf), end = leaf_begin(leaf + 1); t < end; ++t) {
-      const Vec3f fa = pos_[idx_[3 * t]], fb = pos_[idx_[3 * t + 1]], fc = pos_[idx_[3 * t + 2]];
-      Box box{{fa.x, fa.y, fa.z}, {fa.x, fa.y, fa.z}};
-      box.add(fb);
-      box.add(fc);
-      if (!(box.distance2(p) < best)) continue;
-      const Vec3d q = p - closest_point_on_triangle(p, to_double(fa), to_double(fb), to_double(fc));
-      best = std::min(best, dot(q, q));
-    }
-  }
-
-  const Vec3f* pos_;
-  const uint32_t* idx_;
-  size_t n_;
-  int levels_ = 0;
-  std::vector<Box> boxes_;  // complete binary tree in heap order
-};
 
 // A fixed pseudo-random choice of samples: sample s is measured for the statistics when its hash
 // falls below `threshold` (out of 2^32).
@@ -228,7 +45,8 @@ struct Direction {
 // vertex count + t the centroid of triangle t.
 Direction measure_direction(const std::vector<Vec3f>& from, const std::vector<Vec3f>& to,
                             const std::vector<uint32_t>& idx, const std::vector<uint32_t>& first,
-                            size_t used, const OrderedTree& target, size_t statistic_samples) {
+                            size_t used, const OrderedTriangleTree& target,
+                            size_t statistic_samples) {
   const size_t nv = from.size(), nt = idx.size() / 3, n = nv + nt;
   const size_t count = used + nt;
   const uint64_t threshold = count <= statistic_samples
@@ -260,9 +78,9 @@ Direction measure_direction(const std::vector<Vec3f>& from, const std::vector<Ve
     for (size_t b = r.begin(); b != r.end(); ++b) {
       double sum = 0, max = 0;
       std::vector<double>& out = block_distances[b];
-      Vec3d p[kGroup];
-      double best2[kGroup];
-      size_t start[kGroup];
+      Vec3d p[kTreeGroup];
+      double best2[kTreeGroup];
+      size_t start[kTreeGroup];
       size_t count = 0;
       auto flush = [&] {
         target.nearest2_group(p, best2, start, count);
@@ -278,7 +96,7 @@ Direction measure_direction(const std::vector<Vec3f>& from, const std::vector<Ve
         double bound;
         if (!chosen(s, threshold) || !sample(s, p[count], bound, start[count])) continue;
         best2[count] = bound * bound;
-        if (++count == kGroup) flush();
+        if (++count == kTreeGroup) flush();
       }
       if (count > 0) flush();
       block_sum[b] = sum;
@@ -340,9 +158,9 @@ Direction measure_direction(const std::vector<Vec3f>& from, const std::vector<Ve
   const double max = dir.max;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t b = r.begin(); b != r.end(); ++b) {
-      Vec3d p[kGroup];
-      double best2[kGroup];
-      size_t start[kGroup];
+      Vec3d p[kTreeGroup];
+      double best2[kTreeGroup];
+      size_t start[kTreeGroup];
       size_t count = 0;
       double block = 0;
       auto flush = [&] {
@@ -355,7 +173,7 @@ Direction measure_direction(const std::vector<Vec3f>& from, const std::vector<Ve
         double bound;
         sample(c.sample, p[count], bound, start[count]);
         best2[count] = bound * bound;
-        if (++count == kGroup) flush();
+        if (++count == kTreeGroup) flush();
       }
       if (count > 0) flush();
       block_max[b] = block;
@@ -385,7 +203,7 @@ Deviation moved_mesh_deviation(const std::vector<Vec3f>& before, const TriMesh& 
       }
   });
   const size_t used = size_t(std::count_if(first.begin(), first.end(), [](uint32_t t) { return t != kNone; }));
-  std::optional<OrderedTree> tree_before, tree_after;
+  std::optional<OrderedTriangleTree> tree_before, tree_after;
   tbb::parallel_invoke([&] { tree_before.emplace(before.data(), idx.data(), nt); },
                        [&] { tree_after.emplace(after.positions.data(), idx.data(), nt); });
   Direction ab = measure_direction(before, after.positions, idx, first, used, *tree_after,

@@ -2,8 +2,14 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <optional>
 #include <stdexcept>
 
+#include "segmesh/detail/ordered_triangle_tree.hpp"
 #include "segmesh/moved_mesh_deviation.hpp"
 
 namespace segmesh {
@@ -19,8 +25,55 @@ PartMeasures measure_part(const TriMesh& mesh, bool quality, const std::vector<V
   return m;
 }
 
-std::vector<PartMeasures> measure_scene(const Scene& scene, const MeasureRequest& request,
-                                        Progress& progress) {
+namespace {
+
+// The contacts of the scene's labelled surface: areas from part_contacts, and for every contact
+// vertex the exact distance to both parts' shells (a tree on each shell's own order).
+std::vector<ContactMeasures> measure_contacts(const Scene& scene) {
+  const LabelledSurface& surface = *scene.surface;
+  std::vector<ContactMeasures> out;
+  std::map<std::pair<uint32_t, uint32_t>, size_t> index;
+  for (const PartContact& c : part_contacts(surface)) {
+    index[{c.a, c.b}] = out.size();
+    out.push_back({c.a - 1, c.b - 1, c.area_mm2, 0});
+  }
+  if (out.empty()) return out;
+  // Each contact's vertices, once.
+  std::vector<std::vector<uint32_t>> vertices(out.size());
+  for (size_t t = 0; t < surface.sides.size(); ++t) {
+    const auto [in, outside] = surface.sides[t];
+    if (in == 0 || outside == 0) continue;
+    std::vector<uint32_t>& v = vertices[index.at({std::min(in, outside), std::max(in, outside)})];
+    for (int k = 0; k < 3; ++k) v.push_back(surface.mesh.indices[3 * t + size_t(k)]);
+  }
+  std::vector<std::optional<OrderedTriangleTree>> shells(scene.parts.size());
+  for (const ContactMeasures& c : out)
+    for (size_t p : {c.a, c.b})
+      if (!shells[p] && !scene.parts[p].mesh.empty()) {
+        const TriMesh& m = scene.parts[p].mesh;
+        shells[p].emplace(m.positions.data(), m.indices.data(), m.triangle_count());
+      }
+  tbb::parallel_for(size_t{0}, out.size(), [&](size_t i) {
+    std::vector<uint32_t>& v = vertices[i];
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    double gap2 = 0;
+    for (uint32_t x : v) {
+      const Vec3d p = to_double(surface.mesh.positions[x]);
+      for (size_t part : {out[i].a, out[i].b}) {
+        gap2 = std::max(gap2, shells[part] ? shells[part]->nearest2(p)
+                                           : std::numeric_limits<double>::infinity());
+      }
+    }
+    out[i].max_gap_mm = std::sqrt(gap2);
+  });
+  return out;
+}
+
+}  // namespace
+
+SceneMeasures measure_scene(const Scene& scene, const MeasureRequest& request,
+                            Progress& progress) {
   const size_t n = scene.parts.size();
   const ExtractedPositions* extracted = request.extracted;
   if (extracted) {
@@ -35,14 +88,16 @@ std::vector<PartMeasures> measure_scene(const Scene& scene, const MeasureRequest
   std::vector<double> weights;
   for (const Part& part : scene.parts) weights.push_back(double(part.mesh.triangle_count()) + 1);
   PartsProgress shared(progress, weights);
-  std::vector<PartMeasures> out(n);
+  SceneMeasures out;
+  out.parts.resize(n);
   tbb::parallel_for(size_t{0}, n, [&](size_t p) {
     throw_if_cancelled(progress);
-    out[p] = measure_part(scene.parts[p].mesh, request.quality,
-                          extracted ? &extracted->parts[p] : nullptr);
+    out.parts[p] = measure_part(scene.parts[p].mesh, request.quality,
+                                extracted ? &extracted->parts[p] : nullptr);
     shared.done(p);
   });
   throw_if_cancelled(progress);
+  if (scene.surface) out.contacts = measure_contacts(scene);
   return out;
 }
 

@@ -3,7 +3,9 @@
 // view (segmesh_viewer/part_stats.hpp), and the batch runs and the Python package after them.
 // Per part: the mesh measures (mesh_measures.hpp: counts, area, enclosed volume, closedness),
 // the radii-ratio quality (quality.hpp), and, given the positions before smoothing, the volume
-// before smoothing and how far smoothing moved the surface (moved_mesh_deviation.hpp).
+// before smoothing and how far smoothing moved the surface (moved_mesh_deviation.hpp); and for
+// conforming surfaces, per pair of touching parts, the contact's area and whether its two sides
+// are one surface in the shells as written.
 //
 // Parts run in parallel; each part's measures run one after the other, each parallel inside, so
 // the largest part's working memory (edge rows, trees) is alive once at a time.
@@ -27,6 +29,21 @@ struct PartMeasures {
   std::optional<Deviation> smoothing_deviation;  // given the extracted positions
 };
 
+// Two touching parts of a scene meshed with conforming surfaces (Scene::surface): their common
+// surface's area and the largest distance from one of its vertices to either part's shell as
+// written (each shell is searched exactly: 0 up to float rounding when the two sides are one
+// surface, as they should be).
+struct ContactMeasures {
+  size_t a = 0, b = 0;  // part indices, a < b
+  double area_mm2 = 0;
+  double max_gap_mm = 0;
+};
+
+struct SceneMeasures {
+  std::vector<PartMeasures> parts;       // in scene order
+  std::vector<ContactMeasures> contacts;  // ordered by (a, b); empty without Scene::surface
+};
+
 struct MeasureRequest {
   bool quality = true;
   // The positions before smoothing (ExtractedPositions, one entry per part, each as long as the
@@ -38,10 +55,10 @@ struct MeasureRequest {
 PartMeasures measure_part(const TriMesh& mesh, bool quality,
                           const std::vector<Vec3f>* extracted = nullptr);
 
-// Every part's measures, in scene order. Reports progress (the step "measuring", parts weighted by
-// their triangles) and throws Cancelled when progress is cancelled. Throws std::invalid_argument
-// when `extracted` does not match the scene's parts.
-std::vector<PartMeasures> measure_scene(const Scene& scene, const MeasureRequest& request,
-                                        Progress& progress = null_progress());
+// Every part's measures, and with conforming surfaces every contact's. Reports progress (the step
+// "measuring", parts weighted by their triangles) and throws Cancelled when progress is cancelled.
+// Throws std::invalid_argument when `extracted` does not match the scene's parts.
+SceneMeasures measure_scene(const Scene& scene, const MeasureRequest& request,
+                            Progress& progress = null_progress());
 
 }  // namespace segmesh

@@ -31,7 +31,8 @@ PartStats measure_part(const TriMesh& mesh) {
 }
 
 std::vector<PartStats> measure_parts(const Scene& scene, Progress& progress) {
-  const std::vector<PartMeasures> measures = measure_scene(scene, {.quality = true}, progress);
+  const std::vector<PartMeasures> measures =
+      measure_scene(scene, {.quality = true}, progress).parts;
   std::vector<PartStats> stats;
   stats.reserve(measures.size());
   for (const PartMeasures& m : measures) stats.push_back(to_stats(m));

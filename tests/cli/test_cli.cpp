@@ -127,6 +127,14 @@ TEST(Cli, ConformingSurfacesGiveClosedPartsAndSayWhichRan) {
   EXPECT_EQ(report["parts"].size(), 10u);
   EXPECT_TRUE(report["totals"]["all_closed"].get<bool>());
   for (const auto& part : report["parts"]) EXPECT_EQ(part["shells"], 1) << part["name"];
+  // Six screws and the plate against the bone: each contact listed with its area, no gap.
+  ASSERT_TRUE(report["contacts"].is_array());
+  EXPECT_GE(report["contacts"].size(), 6u);
+  for (const auto& c : report["contacts"]) {
+    EXPECT_GT(c["area_mm2"].get<double>(), 1.0) << c;
+    EXPECT_LT(c["max_gap_mm"].get<double>(), 1e-4) << c;
+  }
+  EXPECT_EQ(report["totals"]["contacts"], report["contacts"].size());
   struct Case {
     std::string options, message;
   };
@@ -142,7 +150,9 @@ TEST(Cli, ConformingSurfacesGiveClosedPartsAndSayWhichRan) {
                                  " --report " + q(dir / "i.json") + " --quiet");
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   std::ifstream in2(dir / "i.json");
-  EXPECT_EQ(nlohmann::json::parse(in2)["options"]["surfaces"], "independent");
+  const auto independent = nlohmann::json::parse(in2);
+  EXPECT_EQ(independent["options"]["surfaces"], "independent");
+  EXPECT_TRUE(independent["contacts"].is_null());
 }
 
 // Without --iterations each smoothing method runs its own default count (HC 2, Taubin 20, the

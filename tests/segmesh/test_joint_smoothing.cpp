@@ -14,6 +14,7 @@
 #include "segmesh/phantom.hpp"
 #include "segmesh/pipeline.hpp"
 #include "segmesh/quality.hpp"
+#include "segmesh/scene_measures.hpp"
 
 namespace segmesh {
 namespace {
@@ -131,6 +132,30 @@ TEST(JointSmoothing, ThePhantomKeepsItsContactsAndVolumes) {
     on_two += near >= 2;
   }
   EXPECT_EQ(on_two, contact.size());
+}
+
+// The report's contacts: every pair of touching parts with its area, and the largest distance
+// from a contact vertex to either shell as written: 0 when the two sides are one surface, the
+// shift when one shell is moved off it.
+TEST(JointSmoothing, ContactsAreMeasuredOnTheShellsAsWritten) {
+  const Image image = image_of(screw_in_block());
+  MeshingOptions o;
+  o.surfaces = Surfaces::conforming;
+  Scene scene = build_scene(image, o);
+  SceneMeasures m = measure_scene(scene, {});
+  ASSERT_EQ(m.contacts.size(), 1u);
+  EXPECT_EQ(m.contacts[0].a, 0u);
+  EXPECT_EQ(m.contacts[0].b, 1u);
+  // The shaft's side and bottom inside the block: 2 pi r h + pi r^2 with r about 1.6 mm, h 17 mm.
+  EXPECT_GT(m.contacts[0].area_mm2, 150);
+  EXPECT_LT(m.contacts[0].area_mm2, 230);
+  EXPECT_LT(m.contacts[0].max_gap_mm, 1e-4);
+  for (Vec3f& p : scene.parts[1].mesh.positions) p.x += 0.1f;
+  m = measure_scene(scene, {});
+  EXPECT_NEAR(m.contacts[0].max_gap_mm, 0.1, 0.02);
+
+  o.surfaces = Surfaces::independent;
+  EXPECT_TRUE(measure_scene(build_scene(image, o), {}).contacts.empty());
 }
 
 TEST(JointSmoothing, RefusesWhatItCannotDo) {

@@ -145,7 +145,7 @@ TEST(MovedMeshDeviation, PhantomPartsMatchTheExactDeviation) {
   image.volume = make_phantom({.size = {256, 256, 102}, .spacing = {0.394, 0.394, 4}});
   ExtractedPositions extracted;
   const Scene scene = build_scene(image, {}, null_progress(), nullptr, &extracted);
-  const std::vector<PartMeasures> measures = measure_scene(scene, {.extracted = &extracted});
+  const std::vector<PartMeasures> measures = measure_scene(scene, {.extracted = &extracted}).parts;
   ASSERT_EQ(measures.size(), 10u);
   for (size_t p = 0; p < scene.parts.size(); ++p) {
     TriMesh before = scene.parts[p].mesh;
@@ -170,7 +170,7 @@ TEST(SceneMeasures, RefusesPositionsOfAnotherSceneAndLeavesOutWhatWasNotAsked) {
   ExtractedPositions wrong;
   wrong.parts.push_back({Vec3f{0, 0, 0}});
   EXPECT_THROW(measure_scene(scene, {.extracted = &wrong}), std::invalid_argument);
-  const std::vector<PartMeasures> m = measure_scene(scene, {.quality = false});
+  const std::vector<PartMeasures> m = measure_scene(scene, {.quality = false}).parts;
   ASSERT_EQ(m.size(), 1u);
   EXPECT_FALSE(m[0].quality.has_value());
   EXPECT_FALSE(m[0].smoothing_deviation.has_value());

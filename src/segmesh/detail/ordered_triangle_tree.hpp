@@ -1,0 +1,67 @@
+// The closest triangles of a mesh in a tree built on the triangles' own order, for exact point to
+// mesh distances that cost one pass to set up (moved_mesh_deviation.cpp, the report's contacts in
+// scene_measures.cpp).
+//
+// Extraction emits triangles row by row, plane by plane, so runs of consecutive triangles are
+// already compact in space: the leaves are runs of kOrderedLeaf consecutive triangles, their
+// axis-aligned boxes merged bottom-up into a complete binary tree in heap order (children of i
+// at 2i+1 and 2i+2). No sort, no copy of the triangles: the tree reads the mesh's own arrays,
+// which must outlive it. Memory: 48 bytes per leaf pair, about 3 bytes per triangle. Searches are
+// exact whatever the order; a scattered order only makes them slower (docs/PERFORMANCE.md: a
+// Morton order was tried and was slower than the extraction's own).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "segmesh/vec3.hpp"
+
+namespace segmesh {
+
+// Points one nearest2_group call searches at most.
+inline constexpr size_t kTreeGroup = 16;
+
+class OrderedTriangleTree {
+ public:
+  static constexpr size_t kNoStart = std::numeric_limits<size_t>::max();
+
+  // The n triangles idx[3t..3t+2] over the positions pos. Precondition: n > 0, indices in range.
+  OrderedTriangleTree(const Vec3f* pos, const uint32_t* idx, size_t n);
+
+  // The squared distance from p to the closest triangle when it is below bound2, else bound2.
+  // With `start`, the search begins with the leaf of that triangle (where a caller expects the
+  // closest one); when that leaf alone brings it to `enough2` or below, that is returned: a
+  // caller that only needs to know whether the distance exceeds a value skips the rest.
+  double nearest2(Vec3d p, double bound2 = std::numeric_limits<double>::infinity(),
+                  size_t start = kNoStart, double enough2 = -1) const;
+
+  // The same for a group of nearby points (count <= kTreeGroup), bound2[k] updated in place and
+  // start[k] required: after the start leaves, one walk down the tree collects the leaves near
+  // the whole group (within each point's best distance so far), and each point tests only those.
+  void nearest2_group(const Vec3d* p, double* bound2, const size_t* start, size_t count,
+                      double enough2 = -1) const;
+
+ private:
+  struct Box {
+    float lo[3], hi[3];
+    bool overlaps(const Box& o) const;
+    void add(Vec3f v);
+    void merge(const Box& o);
+    double distance2(Vec3d p) const;  // a lower bound of the squared distance to the box
+  };
+
+  size_t leaf_begin(uint64_t leaf) const { return (leaf * n_) >> levels_; }
+  // The leaf j with leaf_begin(j) <= t < leaf_begin(j + 1).
+  uint64_t leaf_of(size_t t) const { return (((uint64_t{t} + 1) << levels_) + n_ - 1) / n_ - 1; }
+  void test_leaf(Vec3d p, uint64_t leaf, double& best) const;
+
+  const Vec3f* pos_;
+  const uint32_t* idx_;
+  size_t n_;
+  int levels_ = 0;
+  std::vector<Box> boxes_;  // complete binary tree in heap order
+};
+
+}  // namespace segmesh
