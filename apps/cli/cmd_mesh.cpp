@@ -89,7 +89,9 @@ nlohmann::json options_json(const MeshArgs& a, const MeshingOptions& resolved,
 
 int run_mesh(const MeshArgs& args) {
   const auto start = std::chrono::steady_clock::now();
-  MeshingOptions options = meshing_options(args.meshing);
+  const MeshingOptions request = meshing_request(args.meshing);
+  const std::optional<std::string> note = surfaces_note(request);
+  MeshingOptions options = resolve_meshing_options(request);
   if (args.color != "material" && args.color != "quality") {
     throw Error("--color must be material or quality (got \"" + args.color + "\")");
   }
@@ -154,9 +156,13 @@ int run_mesh(const MeshArgs& args) {
   measuring.wait();
   t.measure = ms_since(step);
   progress.finish();
+  // Said once, after the progress bar, where parts could touch.
+  if (note && scene.parts.size() > 1 && !args.quiet) std::fprintf(stderr, "note: %s\n", note->c_str());
   if (report) {
     step = std::chrono::steady_clock::now();
-    nlohmann::json json = mesh_report(image, options_json(args, options, target), t, pipeline,
+    nlohmann::json reported_options = options_json(args, options, target);
+    reported_options["surfaces_note"] = note ? nlohmann::json(*note) : nlohmann::json(nullptr);
+    nlohmann::json json = mesh_report(image, reported_options, t, pipeline,
                                       scene, measures, outputs);
     t.report = ms_since(step);
     // The total as the report is written: everything but the file write and the summary below.

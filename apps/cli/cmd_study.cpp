@@ -170,7 +170,9 @@ int run_study(const StudyArgs& args) {
   base.iso = args.iso;
   base.smooth = {};  // extraction first; each smoothing is studied on its own
   if (!args.label_names.empty()) base.label_names = read_label_names(args.label_names);
-  base = resolve_meshing_options(base);  // a bad request stops before the volume is read
+  // A bad request stops before the volume is read. The request itself goes on: each method
+  // resolves its own surfaces (conforming for Marching Cubes, independent for Dual Contouring).
+  resolve_meshing_options(base);
   const auto threads = limit_threads(args.threads);
   const Image image = read_input(args.input, args.read);
   ProgressBar progress(!args.quiet);

@@ -29,6 +29,10 @@ void add_meshing_options(CLI::App* cmd, MeshingArgs& a) {
 }
 
 MeshingOptions meshing_options(const MeshingArgs& args) {
+  return resolve_meshing_options(meshing_request(args));
+}
+
+MeshingOptions meshing_request(const MeshingArgs& args) {
   MeshingOptions options;
   for (const MeshingOptionSpec& spec : meshing_option_specs()) {
     const std::string name(spec.name);
@@ -45,7 +49,7 @@ MeshingOptions meshing_options(const MeshingArgs& args) {
     spec.set(options, text);
   }
   if (!args.label_names.empty()) options.label_names = read_label_names(args.label_names);
-  return resolve_meshing_options(options);
+  return options;
 }
 
 nlohmann::json meshing_json(const MeshingOptions& o, const std::string& label_names) {

@@ -28,6 +28,8 @@ void add_meshing_options(CLI::App* cmd, MeshingArgs& args);
 // The options given, resolved (resolve_meshing_options); throws segmesh::Error naming the option
 // at fault. Reads the --label-names file. Leaves color_by_quality false.
 MeshingOptions meshing_options(const MeshingArgs& args);
+// The options given, not resolved yet (for what depends on the request itself: surfaces_note).
+MeshingOptions meshing_request(const MeshingArgs& args);
 
 // Resolved options as the JSON report records them (method, labels, ..., smooth, dc_*);
 // `label_names` is the file they came from ("" for none).

@@ -22,12 +22,21 @@ std::optional<Method> parse_method(std::string_view name) {
 }
 
 std::string_view surfaces_name(Surfaces surfaces) {
-  return surfaces == Surfaces::conforming ? "conforming" : "independent";
+  switch (surfaces) {
+    case Surfaces::conforming:
+      return "conforming";
+    case Surfaces::independent:
+      return "independent";
+    case Surfaces::automatic:
+      break;
+  }
+  return "automatic";
 }
 
 std::optional<Surfaces> parse_surfaces(std::string_view name) {
   if (name == "independent") return Surfaces::independent;
   if (name == "conforming") return Surfaces::conforming;
+  if (name == "automatic") return Surfaces::automatic;
   return std::nullopt;
 }
 
@@ -60,6 +69,19 @@ std::string got(double v) {
 
 }  // namespace
 
+std::optional<std::string> surfaces_note(const MeshingOptions& o) {
+  if (o.surfaces != Surfaces::automatic || o.iso) return std::nullopt;
+  if (o.method == Method::dual_contouring) {
+    return "Dual Contouring meshes every part on its own: where parts touch, each has its own "
+           "surface (use --method mc for shared contacts)";
+  }
+  if (o.volume_sigma_mm > 0) {
+    return "--presmooth smooths every part's own field: where parts touch, each has its own "
+           "surface (smooth the mesh instead for shared contacts)";
+  }
+  return std::nullopt;
+}
+
 MeshingOptions resolve_meshing_options(MeshingOptions o) {
   auto fail = [](const std::string& message) { throw Error(message); };
   for (int32_t label : o.labels) {
@@ -81,7 +103,10 @@ MeshingOptions resolve_meshing_options(MeshingOptions o) {
   if (!(o.dc_tolerance_mm >= 0) || !std::isfinite(o.dc_tolerance_mm)) {
     fail("--dc-tolerance must be a non-negative number of millimetres" + got(o.dc_tolerance_mm));
   }
-  if (o.surfaces == Surfaces::conforming) {
+  if (o.surfaces == Surfaces::automatic) {
+    const bool conforming = !o.iso && o.method == Method::marching_cubes && o.volume_sigma_mm == 0;
+    o.surfaces = conforming ? Surfaces::conforming : Surfaces::independent;
+  } else if (o.surfaces == Surfaces::conforming) {
     if (o.method != Method::marching_cubes) {
       fail("--surfaces conforming needs --method mc (Dual Contouring meshes each part on its own: "
            "add --surfaces independent)");
@@ -179,14 +204,15 @@ constexpr std::array kSpecs = {
                         o.method = *m;
                       }},
     MeshingOptionSpec{"surfaces", "TEXT",
-                      "independent (each part on its own) or conforming (contacts between parts "
-                      "meshed and smoothed once; Marching Cubes, label maps)",
+                      "conforming (contacts between parts meshed and smoothed once; the default "
+                      "for label maps with Marching Cubes) or independent (each part on its own)",
                       [](const O& o) { return std::string(surfaces_name(o.surfaces)); },
                       [](O& o, std::string_view t) {
                         const auto s = parse_surfaces(t);
                         if (!s) {
-                          throw Error("--surfaces must be independent or conforming (got \"" +
-                                      std::string(t) + "\")");
+                          throw Error(
+                              "--surfaces must be conforming, independent or automatic (got \"" +
+                              std::string(t) + "\")");
                         }
                         o.surfaces = *s;
                       }},

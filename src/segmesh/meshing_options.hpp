@@ -36,10 +36,12 @@ std::string_view normals_name(NormalMethod normals);  // "central", "sobel"
 // How the parts of a label map are meshed: each on its own (independent: touching parts get two
 // surfaces that smoothing moves apart), or all at once as one surface whose contacts are meshed
 // once and smoothed once for both sides (conforming: multi_label_marching_cubes.hpp,
-// joint_smoothing.hpp; each part is still written as its own closed shell). Independent is the
-// default until conforming surfaces are whole (contacts in the report, Dual Contouring).
-enum class Surfaces { independent, conforming };
-std::string_view surfaces_name(Surfaces surfaces);  // "independent", "conforming"
+// joint_smoothing.hpp; each part is still written as its own closed shell). automatic, the
+// default, resolves to conforming for label maps meshed with Marching Cubes without --presmooth,
+// and to independent otherwise (grey values, Dual Contouring, presmoothing: surfaces_note says
+// why where parts could touch).
+enum class Surfaces { automatic, independent, conforming };
+std::string_view surfaces_name(Surfaces surfaces);  // "automatic", "independent", "conforming"
 std::optional<Surfaces> parse_surfaces(std::string_view name);
 std::optional<NormalMethod> parse_normals(std::string_view name);
 
@@ -52,7 +54,7 @@ SmoothOptions default_smoothing();
 
 struct MeshingOptions {
   Method method = Method::marching_cubes;
-  Surfaces surfaces = Surfaces::independent;  // conforming: Marching Cubes on label maps only
+  Surfaces surfaces = Surfaces::automatic;  // conforming: Marching Cubes on label maps only
   std::vector<int32_t> labels;  // labels to mesh; empty: every non-zero label
   std::optional<double> iso;    // mesh a grey-value volume at this value instead of labels
   int connectivity = 26;        // voxel connectivity of parts: 6, 18 or 26
@@ -74,6 +76,11 @@ struct MeshingOptions {
 // command-line option for a value out of range ("--connectivity must be 6, 18 or 26 (got 7)").
 // Idempotent.
 MeshingOptions resolve_meshing_options(MeshingOptions requested);
+
+// Why a request that leaves --surfaces automatic gets independent surfaces on a label map (Dual
+// Contouring, --presmooth), for front ends to say once when the map has several parts; nothing
+// when it gets conforming surfaces, asks for a kind itself, or meshes grey values.
+std::optional<std::string> surfaces_note(const MeshingOptions& requested);
 
 // One option by its command-line name.
 struct MeshingOptionSpec {

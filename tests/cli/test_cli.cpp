@@ -113,8 +113,9 @@ TEST(Cli, DualContouringWithPresmoothingAndSimplificationGivesClosedParts) {
   EXPECT_NE(bad.err.find("--method must be mc or dc"), std::string::npos) << bad.err;
 }
 
-// --surfaces conforming: the parts of the label map as one surface smoothed jointly; the report
-// says which surfaces ran; a bad name, Dual Contouring or --iso are refused in one line.
+// --surfaces conforming (the default for label maps with Marching Cubes): the parts of the label
+// map as one surface smoothed jointly; the report says which surfaces ran; a bad name, Dual
+// Contouring or --iso with conforming surfaces asked for are refused in one line.
 TEST(Cli, ConformingSurfacesGiveClosedPartsAndSayWhichRan) {
   const fs::path dir = test::scratch_dir("cli_conforming");
   const fs::path phantom = small_phantom("cli_conforming");
@@ -138,7 +139,7 @@ TEST(Cli, ConformingSurfacesGiveClosedPartsAndSayWhichRan) {
   struct Case {
     std::string options, message;
   };
-  for (const Case& c : {Case{"--surfaces shared", "--surfaces must be independent or conforming"},
+  for (const Case& c : {Case{"--surfaces shared", "--surfaces must be conforming, independent or automatic"},
                         Case{"--surfaces conforming --method dc", "needs --method mc"},
                         Case{"--surfaces conforming --iso 1", "meshes label maps"}}) {
     const auto bad = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "x.glb") + " " + c.options);
@@ -147,12 +148,34 @@ TEST(Cli, ConformingSurfacesGiveClosedPartsAndSayWhichRan) {
     EXPECT_FALSE(fs::exists(dir / "x.glb"));
   }
   const auto plain = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "i.glb") +
-                                 " --report " + q(dir / "i.json") + " --quiet");
+                                 " --surfaces independent --report " + q(dir / "i.json") +
+                                 " --quiet");
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   std::ifstream in2(dir / "i.json");
   const auto independent = nlohmann::json::parse(in2);
   EXPECT_EQ(independent["options"]["surfaces"], "independent");
   EXPECT_TRUE(independent["contacts"].is_null());
+  EXPECT_TRUE(independent["options"]["surfaces_note"].is_null());
+
+  // The default: conforming on a label map with Marching Cubes; Dual Contouring runs independent
+  // surfaces and says so once, on stderr and in the report.
+  const auto by_default = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "d.glb") +
+                                      " --report " + q(dir / "d.json"));
+  ASSERT_EQ(by_default.exit_code, 0) << by_default.err;
+  EXPECT_EQ(by_default.err.find("note:"), std::string::npos) << by_default.err;
+  std::ifstream in3(dir / "d.json");
+  EXPECT_EQ(nlohmann::json::parse(in3)["options"]["surfaces"], "conforming");
+  const auto dc = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "dc.glb") +
+                              " --method dc --report " + q(dir / "dc.json"));
+  ASSERT_EQ(dc.exit_code, 0) << dc.err;
+  const size_t note = dc.err.find("note: Dual Contouring meshes every part on its own");
+  EXPECT_NE(note, std::string::npos) << dc.err;
+  EXPECT_EQ(dc.err.find("note:", note + 1), std::string::npos) << dc.err;  // once
+  std::ifstream in4(dir / "dc.json");
+  const auto dc_report = nlohmann::json::parse(in4);
+  EXPECT_EQ(dc_report["options"]["surfaces"], "independent");
+  EXPECT_NE(dc_report["options"]["surfaces_note"].get<std::string>().find("Dual Contouring"),
+            std::string::npos);
 }
 
 // Without --iterations each smoothing method runs its own default count (HC 2, Taubin 20, the
