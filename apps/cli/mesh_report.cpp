@@ -61,7 +61,7 @@ nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, co
   // Contacts are measured on conforming surfaces only; null says they were not.
   nlohmann::json contacts = nullptr;
   double max_gap = 0;
-  if (scene.surface) {
+  if (scene.conforming) {
     contacts = nlohmann::json::array();
     for (const ContactMeasures& c : scene_measures.contacts) {
       contacts.push_back({{"parts", {scene.parts[c.a].name, scene.parts[c.b].name}},
@@ -96,10 +96,10 @@ nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, co
             {"all_closed", all_closed},
             {"dropped_components", stats.dropped_components},
             {"presmooth_fallbacks", stats.presmooth_fallbacks},
-            {"contacts", scene.surface ? nlohmann::json(scene_measures.contacts.size())
-                                       : nlohmann::json(nullptr)},
+            {"contacts", scene.conforming ? nlohmann::json(scene_measures.contacts.size())
+                                          : nlohmann::json(nullptr)},
             {"max_contact_gap_mm",
-             scene.surface ? nlohmann::json(max_gap) : nlohmann::json(nullptr)}}}};
+             scene.conforming ? nlohmann::json(max_gap) : nlohmann::json(nullptr)}}}};
 }
 
 std::string summary_table(const Scene& scene, const std::vector<PartMeasures>& measures) {

@@ -274,4 +274,41 @@ template Components find_components_above(const Volume<uint16_t>&, double, int, 
 template Components find_components_above(const Volume<int32_t>&, double, int, Progress&);
 template Components find_components_above(const Volume<float>&, double, int, Progress&);
 
+bool components_touch(const Components& c, const std::vector<size_t>& which) {
+  if (which.size() < 2) return false;
+  struct Run {
+    int64_t row;  // z * (max y + 2) + y: rows in (z, y) order
+    int32_t x_begin, x_end;
+    uint32_t part;
+  };
+  int64_t rows_per_slice = 0;
+  for (size_t k : which) rows_per_slice = std::max(rows_per_slice, c.components[k].last[1] + 2);
+  std::vector<Run> runs;
+  for (size_t p = 0; p < which.size(); ++p)
+    for (const VoxelRun& r : c.runs_of(c.components[which[p]]))
+      runs.push_back({int64_t{r.z} * rows_per_slice + r.y, r.x_begin, r.x_end, uint32_t(p)});
+  auto before = [](const Run& a, const Run& b) {
+    return a.row != b.row ? a.row < b.row : a.x_begin < b.x_begin;
+  };
+  std::sort(runs.begin(), runs.end(), before);
+  // Each run against the runs after it in its own row and in the four rows after its own that
+  // hold 26-neighbours ((y + 1, z), and (y - 1 .. y + 1, z + 1)); the other four are covered from
+  // the other side.
+  for (size_t i = 0; i < runs.size(); ++i) {
+    const Run& a = runs[i];
+    for (int64_t d : {int64_t{0}, int64_t{1}, rows_per_slice - 1, rows_per_slice, rows_per_slice + 1}) {
+      const int64_t row = a.row + d;
+      auto it = std::lower_bound(runs.begin(), runs.end(), Run{row, a.x_begin - 1, 0, 0}, before);
+      if (d == 0) it = runs.begin() + ptrdiff_t(i) + 1;
+      // Runs in `row` starting before a's end + 1 whose end reaches a's begin - 1 touch it. A run
+      // that starts before a.x_begin - 1 can still reach it: look one run back.
+      if (d != 0 && it != runs.begin() && std::prev(it)->row == row) --it;
+      for (; it != runs.end() && it->row == row && it->x_begin <= a.x_end; ++it) {
+        if (it->x_end >= a.x_begin && it->part != a.part) return true;
+      }
+    }
+  }
+  return false;
+}
+
 }  // namespace segmesh

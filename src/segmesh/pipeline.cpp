@@ -203,7 +203,9 @@ Scene extract_parts(const Image& image, const PipelineParts& parts, const Meshin
   // Each part's share of the step is its voxel count.
   std::vector<double> weights;
   for (size_t c : parts.kept) weights.push_back(double(components.components[c].voxels));
-  if (o.surfaces == Surfaces::conforming) {
+  scene.conforming = o.surfaces == Surfaces::conforming;
+  // Parts that touch nowhere are meshed one by one: the same surfaces, without the cost of one.
+  if (scene.conforming && components_touch(components, parts.kept)) {
     for (size_t p = 0; p < parts.kept.size(); ++p) {
       scene.parts[p] = describe_part(image, o, components.components[parts.kept[p]], grey);
     }

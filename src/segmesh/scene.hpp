@@ -54,8 +54,11 @@ struct ExtractedPositions {
 struct Scene {
   Grid grid;  // the source volume's grid
   std::vector<Part> parts;
-  // With --surfaces conforming: the one surface of all parts (material p + 1 is parts[p]); each part's
-  // mesh is its shell (part_shells), remade whenever the surface changes (smooth_scene).
+  // Conforming surfaces: every contact between two parts is one surface of both. When some parts
+  // touch, `surface` is the one surface of all parts (material p + 1 is parts[p]) and each part's
+  // mesh is its shell (part_shells), remade whenever the surface changes (smooth_scene); when none
+  // touch, there is no surface and each part was meshed on its own (the same result).
+  bool conforming = false;
   std::optional<LabelledSurface> surface;
 };
 

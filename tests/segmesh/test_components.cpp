@@ -59,6 +59,53 @@ TEST(Components, MatchBreadthFirstSearchOnRandomLabelMaps) {
   }
 }
 
+// components_touch against the definition: some voxel of one chosen component has a voxel of
+// another chosen component among its 26 neighbours.
+TEST(Components, TouchingMatchesTheVoxelDefinitionOnRandomMaps) {
+  int touching = 0, apart = 0;
+  for (int connectivity : {6, 26}) {
+    for (unsigned seed = 1; seed <= 12; ++seed) {
+      const auto v = random_labels({13, 11, 9}, 3, 0.08 + 0.02 * seed, seed);
+      const Components c = find_components(v, {.connectivity = connectivity});
+      std::vector<int> owner(v.voxels.size(), -1);
+      for (size_t k = 0; k < c.components.size(); ++k)
+        for (const VoxelRun& r : c.runs_of(c.components[k]))
+          for (int32_t x = r.x_begin; x < r.x_end; ++x) owner[size_t(v.grid.index(x, r.y, r.z))] = int(k);
+      // Every pair of components, and all of them.
+      std::vector<std::vector<size_t>> sets;
+      for (size_t a = 0; a < c.components.size() && a < 6; ++a)
+        for (size_t b = a + 1; b < c.components.size() && b < 6; ++b) sets.push_back({a, b});
+      std::vector<size_t> all(c.components.size());
+      for (size_t k = 0; k < all.size(); ++k) all[k] = k;
+      sets.push_back(all);
+      for (const auto& which : sets) {
+        std::vector<char> chosen(c.components.size(), 0);
+        for (size_t k : which) chosen[k] = 1;
+        bool expected = false;
+        const auto d = v.grid.dims;
+        for (int64_t z = 0; z < d[2] && !expected; ++z)
+          for (int64_t y = 0; y < d[1] && !expected; ++y)
+            for (int64_t x = 0; x < d[0] && !expected; ++x) {
+              const int a = owner[size_t(v.grid.index(x, y, z))];
+              if (a < 0 || !chosen[size_t(a)]) continue;
+              for (int64_t dz = -1; dz <= 1; ++dz)
+                for (int64_t dy = -1; dy <= 1; ++dy)
+                  for (int64_t dx = -1; dx <= 1; ++dx) {
+                    const int64_t i = x + dx, j = y + dy, k = z + dz;
+                    if (i < 0 || j < 0 || k < 0 || i >= d[0] || j >= d[1] || k >= d[2]) continue;
+                    const int b = owner[size_t(v.grid.index(i, j, k))];
+                    if (b >= 0 && b != a && chosen[size_t(b)]) expected = true;
+                  }
+            }
+        EXPECT_EQ(components_touch(c, which), expected) << connectivity << " " << seed;
+        (expected ? touching : apart) += 1;
+      }
+    }
+  }
+  EXPECT_GT(touching, 10);  // both answers occur
+  EXPECT_GT(apart, 10);
+}
+
 TEST(Components, NumberedWithinLabelLargestFirstWithBoundingBoxes) {
   LabelVolume v;
   v.grid.dims = {10, 6, 5};

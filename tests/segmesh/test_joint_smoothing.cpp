@@ -11,6 +11,7 @@
 
 #include "segmesh/mesh_distance.hpp"
 #include "segmesh/mesh_measures.hpp"
+#include "segmesh/multi_label_marching_cubes.hpp"
 #include "segmesh/phantom.hpp"
 #include "segmesh/pipeline.hpp"
 #include "segmesh/quality.hpp"
@@ -156,6 +157,46 @@ TEST(JointSmoothing, ContactsAreMeasuredOnTheShellsAsWritten) {
 
   o.surfaces = Surfaces::independent;
   EXPECT_TRUE(measure_scene(build_scene(image, o), {}).contacts.empty());
+}
+
+// Parts that touch nowhere: build_scene meshes them one by one (no labelled surface), and that
+// is what the one surface would give too: the same shells, smoothed the same way.
+TEST(JointSmoothing, PartsThatDoNotTouchGiveTheIndependentSurfaces) {
+  LabelVolume v;
+  v.grid.dims = {40, 24, 24};
+  v.grid.spacing = {0.5, 0.5, 1.0};
+  v.voxels.assign(v.grid.voxel_count(), 0);
+  for (int64_t k = 4; k < 20; ++k)
+    for (int64_t j = 4; j < 20; ++j)
+      for (int64_t i = 3; i < 36; ++i) {
+        const double r = std::hypot(double(j) - 11.5, double(k) - 11.5);
+        if (i < 18 && r < 7) v.at(i, j, k) = 1;                         // a rod
+        if (i >= 20 && r < 5 + 0.1 * double(i - 20)) v.at(i, j, k) = 2;  // a cone, 1 voxel apart
+      }
+  const Image image = image_of(v);
+  MeshingOptions o;
+  o.surfaces = Surfaces::conforming;
+  const Scene scene = build_scene(image, o);
+  EXPECT_TRUE(scene.conforming);
+  EXPECT_FALSE(scene.surface.has_value());
+  o.surfaces = Surfaces::independent;
+  const Scene independent = build_scene(image, o);
+
+  const Components c = find_components(v, {.connectivity = 26});
+  ASSERT_EQ(c.components.size(), 2u);
+  ASSERT_FALSE(components_touch(c, {0, 1}));
+  const std::vector<size_t> both = {0, 1};
+  LabelledSurface one = multi_label_marching_cubes(v.grid, c, both, 26);
+  smooth_jointly(one, default_smoothing());
+  const std::vector<TriMesh> shells = part_shells(one);
+  ASSERT_EQ(shells.size(), 2u);
+  for (size_t p = 0; p < 2; ++p) {
+    EXPECT_EQ(scene.parts[p].mesh.triangle_count(), shells[p].triangle_count());
+    EXPECT_EQ(independent.parts[p].mesh.indices, scene.parts[p].mesh.indices);
+    const double a = enclosed_volume(shells[p]), b = enclosed_volume(scene.parts[p].mesh);
+    EXPECT_NEAR(a, b, 1e-6 * b) << p;
+    EXPECT_LT(mesh_deviation(shells[p], scene.parts[p].mesh).hausdorff, 1e-4) << p;
+  }
 }
 
 TEST(JointSmoothing, RefusesWhatItCannotDo) {
