@@ -6,9 +6,13 @@
 //
 // Options come resolved from meshing_options.hpp (build_scene resolves them again, so a caller may
 // pass a request). Label maps: every selected label is split into connected components
-// (components.hpp); each component becomes a Part, extracted from its own 0/1 indicator at 0.5 by
-// extract_part (extract_part.hpp: the one dispatch over source, method and volume smoothing), so
-// parts never share vertices and each is closed on its own. Grey-value volumes (--iso): the
+// (components.hpp) and each component becomes a Part. With conforming surfaces (the default for
+// label maps and Marching Cubes) and parts that touch, all parts are extracted at once
+// (multi_label_marching_cubes.hpp), each contact meshed once, smoothed jointly
+// (joint_smoothing.hpp), and each part's mesh is its closed shell cut from that one surface.
+// Otherwise each part is extracted from its own 0/1 indicator at 0.5 by extract_part
+// (extract_part.hpp: the one dispatch over source, method and volume smoothing), and closed on
+// its own. Grey-value volumes (--iso): the
 // voxels at or above iso are split the same way and each component is extracted from the grey
 // values themselves. Parts are extracted in parallel, each reporting its progress inside its own
 // extraction; the result does not depend on the number of threads.
