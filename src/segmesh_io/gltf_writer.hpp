@@ -17,9 +17,10 @@
 // rotation, so triangle winding is unchanged. Column-major:
 //   [0.001 0 0 0,  0 0 -0.001 0,  0 0.001 0 0,  0 0 0 1]
 // asset.extras records {"units":"mm","space":"LPS","root_transform":...}; asset.generator is
-// "segmesh". Cost: one pass over the positions for their bounds, then the file is streamed
-// (mesh_io::write_pieces): positions, colours and indices straight from the meshes, normals
-// re-normalised piece by piece; the file is never assembled in memory.
+// "segmesh". The file is laid out by detail/glb_document.hpp. Cost: one pass over the positions
+// for their bounds, then the file is streamed (mesh_io::write_pieces): positions, colours and
+// indices straight from the meshes, normals re-normalised piece by piece; the file is never
+// assembled in memory.
 #pragma once
 
 #include <ostream>
