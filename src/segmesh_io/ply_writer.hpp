@@ -12,6 +12,7 @@
 // Coordinates are world millimetres, LPS; a moved part is written where it was moved to.
 // Cost: one pass, 12-28 bytes per vertex and 13 per triangle, streamed in pieces formatted in
 // parallel (mesh_io::write_pieces); a moved part is transformed as it is written, not copied.
+// The first header lines and the vertex records are detail/ply_layout.hpp's.
 #pragma once
 
 #include <ostream>

@@ -34,6 +34,7 @@ bool is_rigid(const Transform& t, double tol = 1e-5);
 // transform mirrors.
 class Placement {
  public:
+  Placement() : transform_(identity_transform()), moved_(false), flips_(false) {}  // as it is
   explicit Placement(const Part& part);
   bool flips() const { return flips_; }
   Vec3f point(Vec3f p) const {

@@ -9,6 +9,7 @@
 // (two per thread, plus one) of about kPieceBytes each.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <functional>
 #include <memory>
@@ -53,6 +54,18 @@ class PieceList {
   void bytes(const void* data, size_t size);  // raw memory, written as it is
   void items(size_t count, size_t per_piece,
              std::function<std::string_view(size_t begin, size_t end, ChunkBuffer&)> format);
+  // `count` records of `record_bytes` each (a vertex, a face), in pieces of about kPieceBytes:
+  // put(i, p) writes record i at p and returns the byte after it.
+  template <class Put>
+  void records(size_t count, size_t record_bytes, Put put) {
+    items(count, std::max<size_t>(1, kPieceBytes / record_bytes),
+          [put, record_bytes](size_t begin, size_t end, ChunkBuffer& buffer) {
+            char* p = buffer.room((end - begin) * record_bytes);
+            for (size_t i = begin; i < end; ++i) p = put(i, p);
+            buffer.commit(p);
+            return buffer.view();
+          });
+  }
   void write(std::ostream& out) const;
 
  private:
