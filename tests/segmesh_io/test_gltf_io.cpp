@@ -5,6 +5,7 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 
+#include "gltf_test_support.hpp"
 #include "mesh_test_support.hpp"
 #include "segmesh_io/read_mesh.hpp"
 #include "segmesh_io/write_mesh.hpp"
@@ -16,25 +17,6 @@ namespace {
 namespace fs = std::filesystem;
 using namespace segmesh::test;
 using Json = nlohmann::json;
-
-struct Glb {
-  Json json;
-  std::string bin;
-};
-
-uint32_t u32(const std::string& b, size_t at) {
-  uint32_t v;
-  std::memcpy(&v, b.data() + at, 4);
-  return v;
-}
-
-Glb split_glb(const std::string& b) {
-  Glb g;
-  const uint32_t json_len = u32(b, 12);
-  g.json = Json::parse(b.substr(20, json_len));
-  if (b.size() > 20 + json_len) g.bin = b.substr(28 + json_len, u32(b, 20 + json_len));
-  return g;
-}
 
 std::string make_glb(const Json& json, const std::string& bin) {
   std::string j = json.dump();
@@ -65,48 +47,6 @@ Scene rich_scene() {
   Part third = make_part("screw", 3, Role::implant, tetrahedron());
   scene.parts.push_back(third);
   return scene;
-}
-
-struct ValidatorReport {
-  bool ran = false;
-  int errors = -1, warnings = -1;
-  std::string output;
-};
-
-// Runs tools/npm/validate-gltf.mjs; a missing node or validator is a test failure, not a skip:
-// the validator is part of the project's test dependencies.
-ValidatorReport run_validator(const fs::path& file) {
-  ValidatorReport r;
-  const fs::path script = fs::path(SEGMESH_SOURCE_DIR) / "tools" / "npm" / "validate-gltf.mjs";
-  const fs::path package = fs::path(SEGMESH_SOURCE_DIR) / "tools" / "npm" / "node_modules" / "gltf-validator" / "package.json";
-  if (std::system("node --version > /dev/null 2>&1") != 0) {
-    ADD_FAILURE() << "node (Node.js) is not installed; run scripts/install-deps.sh to install it and the glTF validator";
-    return r;
-  }
-  if (!fs::exists(package)) {
-    ADD_FAILURE() << "the Khronos glTF validator is not installed (" << package
-                  << " is missing); run scripts/install-deps.sh";
-    return r;
-  }
-  const std::string cmd = "node '" + script.string() + "' '" + file.string() + "' 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) {
-    ADD_FAILURE() << "cannot run " << cmd;
-    return r;
-  }
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, n);
-  pclose(pipe);
-  try {
-    const Json report = Json::parse(r.output.substr(0, r.output.find('\n')));
-    r.errors = report.at("errors").get<int>();
-    r.warnings = report.at("warnings").get<int>();
-    r.ran = true;
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "the glTF validator's output is not its JSON report (" << e.what() << "):\n" << r.output;
-  }
-  return r;
 }
 
 TEST(GlbTest, PassesTheKhronosValidatorWithoutErrorsOrWarnings) {
