@@ -1,12 +1,16 @@
 // segmesh mesh INPUT -o OUTPUT [options]: the main job. Reads a label map (or a grey-value volume
-// with --iso), splits it into parts, extracts each (Marching Cubes or Dual Contouring), writes the meshes and a
-// report. Every check that can fail on the user's input runs before the long work starts.
+// with --iso), splits it into parts, extracts each (Marching Cubes or Dual Contouring), writes the
+// meshes, the conforming surface as an atlas (--atlas) and a report. Every check that can fail on
+// the user's input runs before the long work starts.
 #include <tbb/task_group.h>
 
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <string>
+#include <system_error>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -16,6 +20,7 @@
 #include "segmesh/error.hpp"
 #include "segmesh/pipeline.hpp"
 #include "segmesh/scene_measures.hpp"
+#include "segmesh_io/atlas_writer.hpp"
 #include "segmesh_io/atomic_file.hpp"
 #include "segmesh_io/mesh_format.hpp"
 #include "segmesh_io/write_mesh.hpp"
@@ -32,6 +37,7 @@ struct MeshArgs {
   MeshingArgs meshing;
   std::string format;
   std::string report;
+  std::string atlas;
   std::string color = "material";
   int threads = 0;
   bool quiet = false;
@@ -76,12 +82,53 @@ OutputTarget resolve_output(const MeshArgs& args) {
   return out;
 }
 
+// Whether two paths name the same file or folder, however spelled ("a.ply", "./a.ply"); neither
+// needs to exist.
+bool same_path(const fs::path& a, const fs::path& b) {
+  std::error_code e1, e2;
+  const fs::path ca = fs::weakly_canonical(fs::absolute(a), e1);
+  const fs::path cb = fs::weakly_canonical(fs::absolute(b), e2);
+  return e1 || e2 ? a == b : ca == cb;
+}
+
+// Throws when the outputs of `option` and `other_option` are the same file.
+void refuse_same_file(const std::string& path, const char* option, const fs::path& other,
+                      const char* other_option) {
+  if (same_path(path, other)) {
+    throw Error(path + ": " + option + " and " + other_option +
+                " name the same file; choose another name");
+  }
+}
+
+// --atlas: the conforming surface, so conforming surfaces (the default for label maps with
+// Marching Cubes); a .ply or .glb file in an existing folder (or the -o folder, made before the
+// atlas is written) that is neither the input nor another output. `note` is why --surfaces
+// automatic chose independent surfaces (surfaces_note).
+void check_atlas(const MeshArgs& args, const MeshingOptions& options,
+                 const std::optional<std::string>& note, const OutputTarget& target) {
+  if (options.surfaces != Surfaces::conforming) {
+    const std::string why = note ? *note
+                            : options.iso ? "--iso meshes grey values, each part on its own"
+                                          : "this run asks for --surfaces independent";
+    throw Error("--atlas needs --surfaces conforming, the one surface all parts share; " + why);
+  }
+  atlas_format(args.atlas);
+  const fs::path folder = fs::path(args.atlas).parent_path();
+  if (!target.folder || !same_path(folder.empty() ? "." : folder, target.path)) {
+    require_parent_folder(args.atlas);
+  }
+  refuse_to_overwrite(args.atlas, args.input);
+  if (!target.folder) refuse_same_file(args.atlas, "--atlas", target.path, "-o");
+  if (!args.report.empty()) refuse_same_file(args.atlas, "--atlas", args.report, "--report");
+}
+
 nlohmann::json options_json(const MeshArgs& a, const MeshingOptions& resolved,
                             const OutputTarget& out) {
   nlohmann::json j = meshing_json(resolved, a.meshing.label_names);
   j["format"] = extension(out.format);
   j["output"] = out.path.string();
   j["per_part_files"] = out.folder;
+  j["atlas"] = a.atlas.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.atlas);
   j["threads"] = a.threads;
   j["color"] = a.color;
   return j;
@@ -101,10 +148,9 @@ int run_mesh(const MeshArgs& args) {
   if (!args.report.empty()) {
     require_parent_folder(args.report);
     refuse_to_overwrite(args.report, args.input);
-    if (!target.folder && fs::path(args.report) == target.path) {
-      throw Error(args.report + ": --report and -o name the same file; choose another name");
-    }
+    if (!target.folder) refuse_same_file(args.report, "--report", target.path, "-o");
   }
+  if (!args.atlas.empty()) check_atlas(args, options, note, target);
   const auto threads = limit_threads(args.threads);
 
   Timings t;
@@ -123,6 +169,15 @@ int run_mesh(const MeshArgs& args) {
   t.components = pipeline.components_ms;
   t.extract = pipeline.extract_ms;
   t.smooth = pipeline.smooth_ms;
+  // Part files are named after the parts, known only now; refused before anything is written.
+  if (target.folder && !args.atlas.empty()) {
+    for (const fs::path& p : part_file_paths(scene, target.path, target.format)) {
+      if (same_path(p, args.atlas)) {
+        throw Error(args.atlas + ": --atlas names the file of part " + p.stem().string() +
+                    " in the -o folder; choose another name");
+      }
+    }
+  }
 
   // The parts' measures are for the summary table and the report only (the topology checks for
   // the table; quality, volume change and smoothing deviation for the report too). They run
@@ -146,6 +201,10 @@ int run_mesh(const MeshArgs& args) {
     } else {
       write_scene(scene, target.path, target.format);
       outputs.push_back(target.path.string());
+    }
+    if (!args.atlas.empty()) {
+      write_atlas(scene, args.atlas);
+      outputs.push_back(args.atlas);
     }
   } catch (...) {
     measuring.wait();
@@ -192,6 +251,7 @@ int run_mesh(const MeshArgs& args) {
                 report ? (", report " + std::to_string(long(t.report + 0.5))).c_str() : "");
     std::printf("wrote %s%s\n", target.path.string().c_str(),
                 target.folder ? (" (" + std::to_string(outputs.size()) + " files)").c_str() : "");
+    if (!args.atlas.empty()) std::printf("atlas %s\n", args.atlas.c_str());
     if (!args.report.empty()) std::printf("report %s\n", args.report.c_str());
   }
   return 0;
@@ -215,6 +275,9 @@ Subcommand add_mesh_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--format", a->format, "file format for a folder output: stl, ply (default), obj, glb");
   cmd->add_option("--report", a->report, "write a JSON report to this file");
+  cmd->add_option("--atlas", a->atlas,
+                  "also write the conforming surface, one mesh whose triangles name their inside "
+                  "and outside part, to this .ply or .glb file (needs --surfaces conforming)");
   cmd->add_option("--threads", a->threads, "worker threads (0: all cores)")->capture_default_str();
   cmd->add_flag("--quiet", a->quiet, "no progress bar and no summary");
   return {cmd, [a] { return run_mesh(*a); }};

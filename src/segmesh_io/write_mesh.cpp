@@ -87,7 +87,25 @@ std::string file_stem_for(const std::string& part_name) {
   return s.empty() ? "part" : s;
 }
 
+// The file of every part in `parts`, in order, in `dir`.
+std::vector<fs::path> file_paths(const PartList& parts, const fs::path& dir, MeshFormat format) {
+  std::vector<fs::path> paths;
+  std::set<std::string> used;
+  for (const Part* part : parts) {
+    const std::string base = file_stem_for(part->name);
+    std::string stem = base;
+    for (int n = 2; used.count(lower(stem)); ++n) stem = base + "_" + std::to_string(n);
+    used.insert(lower(stem));
+    paths.push_back(dir / (stem + "." + std::string(extension(format))));
+  }
+  return paths;
+}
+
 }  // namespace
+
+std::vector<fs::path> part_file_paths(const Scene& scene, const fs::path& dir, MeshFormat format) {
+  return file_paths(parts_to_write(scene), dir, format);
+}
 
 void write_scene(const Scene& scene, const fs::path& file, MeshFormat format) {
   const PartList parts = parts_to_write(scene);
@@ -111,18 +129,11 @@ std::vector<fs::path> write_parts(const Scene& scene, const fs::path& dir, MeshF
     created = true;
   }
 
-  std::vector<fs::path> written;
+  const std::vector<fs::path> written = file_paths(parts, dir, format);
   try {
     Files files;
-    std::set<std::string> used;
-    for (const Part* part : parts) {
-      const std::string base = file_stem_for(part->name);
-      std::string stem = base;
-      for (int n = 2; used.count(lower(stem)); ++n) stem = base + "_" + std::to_string(n);
-      used.insert(lower(stem));
-      const fs::path file = dir / (stem + "." + std::string(extension(format)));
-      write_to({part}, file, format, part->name, files);
-      written.push_back(file);
+    for (size_t i = 0; i < parts.size(); ++i) {
+      write_to({parts[i]}, written[i], format, parts[i]->name, files);
     }
     commit_all(files);
   } catch (...) {

@@ -39,4 +39,9 @@ void write_scene(const Scene& scene, const std::filesystem::path& file, MeshForm
 std::vector<std::filesystem::path> write_parts(const Scene& scene, const std::filesystem::path& dir,
                                                MeshFormat format);
 
+// The files write_parts would write, in the same order, without touching the disk.
+std::vector<std::filesystem::path> part_file_paths(const Scene& scene,
+                                                   const std::filesystem::path& dir,
+                                                   MeshFormat format);
+
 }  // namespace segmesh

@@ -178,6 +178,63 @@ TEST(Cli, ConformingSurfacesGiveClosedPartsAndSayWhichRan) {
             std::string::npos);
 }
 
+// --atlas with independent surfaces (asked for, or Dual Contouring's), with another extension, on
+// -o's file or on a part's file in the -o folder is refused in one line, and nothing is written.
+// With conforming surfaces it writes them beside the meshes: one PLY whose faces carry their
+// inside and outside materials, with fewer triangles than the parts' shells together (every
+// contact meshed once); conforming being the default, --atlas alone does too.
+TEST(Cli, AtlasWritesTheConformingSurfaceAndIsRefusedWithoutIt) {
+  const fs::path dir = test::scratch_dir("cli_atlas");
+  const fs::path phantom = small_phantom("cli_atlas");
+  struct Case {
+    std::string options, message;
+  };
+  const std::string in_folder = " --surfaces conforming -o " + q(dir / "parts") + "/ --atlas ";
+  for (const Case& c :
+       {Case{"-o " + q(dir / "y.glb") + " --surfaces independent --atlas " + q(dir / "b.ply"),
+             "--atlas needs --surfaces conforming"},
+        Case{"-o " + q(dir / "y.glb") + " --method dc --atlas " + q(dir / "b.ply"),
+             "--atlas needs --surfaces conforming, the one surface all parts share; Dual "
+             "Contouring meshes every part on its own"},
+        Case{"-o " + q(dir / "y.glb") + " --surfaces conforming --atlas " + q(dir / "b.stl"),
+             ".ply or .glb"},
+        Case{"-o " + q(dir / "y.glb") + " --surfaces conforming --atlas " + q(dir / "." / "y.glb"),
+             "--atlas and -o name the same file"},
+        Case{in_folder + q(dir / "parts" / "label1_1.ply"), "names the file of part label1_1"}}) {
+    const auto bad = run_segmesh("mesh " + q(phantom) + " " + c.options + " --quiet");
+    EXPECT_EQ(bad.exit_code, 2) << c.options;
+    EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << c.options << ": " << bad.err;
+    EXPECT_NE(bad.err.find(c.message), std::string::npos) << c.options << ": " << bad.err;
+  }
+  EXPECT_TRUE(test::folder_holds_only(dir, {}));
+  EXPECT_FALSE(fs::exists(dir / "parts"));
+
+  const auto r = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "x.glb") +
+                             " --surfaces conforming --atlas " + q(dir / "a.ply") + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(dir / "a.ply", std::ios::binary);
+  std::string header;
+  for (std::string line; std::getline(in, line) && line != "end_header";) header += line + "\n";
+  EXPECT_NE(header.find("format binary_little_endian 1.0\n"), std::string::npos) << header;
+  EXPECT_NE(header.find("property list uchar int vertex_indices\nproperty int inside\n"
+                        "property int outside\n"),
+            std::string::npos)
+      << header;
+  EXPECT_NE(header.find("comment material 0 background\n"), std::string::npos) << header;
+  EXPECT_NE(header.find("comment material 10 label2_7\n"), std::string::npos) << header;
+  const Scene atlas = read_mesh(dir / "a.ply"), parts = read_mesh(dir / "x.glb");
+  ASSERT_EQ(atlas.parts.size(), 1u);
+  ASSERT_EQ(parts.parts.size(), 10u);
+  size_t shell_triangles = 0;
+  for (const Part& p : parts.parts) shell_triangles += p.mesh.triangle_count();
+  EXPECT_GT(atlas.parts[0].mesh.triangle_count(), shell_triangles / 2);
+  EXPECT_LT(atlas.parts[0].mesh.triangle_count(), shell_triangles);
+  const auto by_default = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "d.stl") +
+                                      " --atlas " + q(dir / "d.glb") + " --quiet");
+  EXPECT_EQ(by_default.exit_code, 0) << by_default.err;
+  EXPECT_TRUE(test::folder_holds_only(dir, {"x.glb", "a.ply", "d.stl", "d.glb"}));
+}
+
 // Without --iterations each smoothing method runs its own default count (HC 2, Taubin 20, the
 // default windowed sinc 20), reported as such; --iterations overrides it.
 TEST(Cli, SmoothingIterationsDefaultPerMethod) {
