@@ -215,12 +215,13 @@ int run_mesh(const MeshArgs& args) {
   measuring.wait();
   t.measure = ms_since(step);
   progress.finish();
-  // Said once, after the progress bar, where parts could touch.
-  if (note && scene.parts.size() > 1 && !args.quiet) std::fprintf(stderr, "note: %s\n", note->c_str());
+  // Said once, after the progress bar, when parts touch.
+  const bool say = note && pipeline.parts_touch;
+  if (say && !args.quiet) std::fprintf(stderr, "note: %s\n", note->c_str());
   if (report) {
     step = std::chrono::steady_clock::now();
     nlohmann::json reported_options = options_json(args, options, target);
-    reported_options["surfaces_note"] = note ? nlohmann::json(*note) : nlohmann::json(nullptr);
+    reported_options["surfaces_note"] = say ? nlohmann::json(*note) : nlohmann::json(nullptr);
     nlohmann::json json = mesh_report(image, reported_options, t, pipeline,
                                       scene, measures, outputs);
     t.report = ms_since(step);

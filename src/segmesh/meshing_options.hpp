@@ -78,7 +78,8 @@ struct MeshingOptions {
 MeshingOptions resolve_meshing_options(MeshingOptions requested);
 
 // Why a request that leaves --surfaces automatic gets independent surfaces on a label map (Dual
-// Contouring, --presmooth), for front ends to say once when the map has several parts; nothing
+// Contouring, --presmooth), for front ends to say once when parts touch
+// (PipelineStats::parts_touch); nothing
 // when it gets conforming surfaces, asks for a kind itself, or meshes grey values.
 std::optional<std::string> surfaces_note(const MeshingOptions& requested);
 

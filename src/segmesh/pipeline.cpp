@@ -188,6 +188,7 @@ PipelineParts find_parts(const Image& image, const MeshingOptions& options, Prog
     throw Error(image.path + ": every component is smaller than --min-voxels " +
                 std::to_string(o.min_voxels) + "; lower it");
   }
+  parts.touching = !grey && components_touch(parts.components, parts.kept);
   return parts;
 }
 
@@ -205,7 +206,7 @@ Scene extract_parts(const Image& image, const PipelineParts& parts, const Meshin
   for (size_t c : parts.kept) weights.push_back(double(components.components[c].voxels));
   scene.conforming = o.surfaces == Surfaces::conforming;
   // Parts that touch nowhere are meshed one by one: the same surfaces, without the cost of one.
-  if (scene.conforming && components_touch(components, parts.kept)) {
+  if (scene.conforming && parts.touching) {
     for (size_t p = 0; p < parts.kept.size(); ++p) {
       scene.parts[p] = describe_part(image, o, components.components[parts.kept[p]], grey);
     }
@@ -245,6 +246,7 @@ Scene run_pipeline(const Image& image, const MeshingOptions& options, Progress& 
   auto start = Clock::now();
   const PipelineParts parts = find_parts(image, o, progress);
   t.dropped_components = static_cast<int64_t>(parts.components.components.size() - parts.kept.size());
+  t.parts_touch = parts.touching;
   t.components_ms = ms_since(start);
 
   start = Clock::now();

@@ -39,6 +39,8 @@ struct PipelineStats {
   double smooth_ms = 0;  // the smoothing and, when asked, the quality colours
   int64_t dropped_components = 0;  // smaller than min_voxels
   int64_t presmooth_fallbacks = 0;  // parts volume smoothing would have erased, meshed without it
+  bool parts_touch = false;  // label maps: some parts touch (their contacts are shared only when
+                             // the surfaces are conforming)
 };
 
 // A label map with more distinct values than this is taken for a grey-value image unless the
@@ -53,6 +55,7 @@ struct PipelineParts {
   Components components;
   std::vector<size_t> kept;  // indices into components.components, in order
   ValueRange range;          // grey-value volumes: the value range (the background outside)
+  bool touching = false;     // label maps: some kept parts touch (components_touch)
 };
 PipelineParts find_parts(const Image& image, const MeshingOptions& options,
                          Progress& progress = null_progress());

@@ -176,6 +176,13 @@ TEST(Cli, ConformingSurfacesGiveClosedPartsAndSayWhichRan) {
   EXPECT_EQ(dc_report["options"]["surfaces"], "independent");
   EXPECT_NE(dc_report["options"]["surfaces_note"].get<std::string>().find("Dual Contouring"),
             std::string::npos);
+  // The bones alone touch nowhere (the fracture gap, the fibula apart): nothing to say.
+  const auto bones = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "b.glb") +
+                                 " --labels 1 --method dc --report " + q(dir / "b.json"));
+  ASSERT_EQ(bones.exit_code, 0) << bones.err;
+  EXPECT_EQ(bones.err.find("note:"), std::string::npos) << bones.err;
+  std::ifstream in5(dir / "b.json");
+  EXPECT_TRUE(nlohmann::json::parse(in5)["options"]["surfaces_note"].is_null());
 }
 
 // --atlas with independent surfaces (asked for, or Dual Contouring's), with another extension, on

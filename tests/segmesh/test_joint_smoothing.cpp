@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <unordered_map>
 
 #include "segmesh/mesh_distance.hpp"
 #include "segmesh/mesh_measures.hpp"
@@ -59,6 +61,61 @@ std::vector<Vec3d> contact_vertices(const LabelledSurface& s) {
   for (size_t v = 0; v < on.size(); ++v)
     if (on[v]) out.push_back(to_double(s.mesh.positions[v]));
   return out;
+}
+
+// Whether the segment [p, q] crosses the interior of triangle (a, b, c): it passes through the
+// triangle's plane strictly between its ends, at a point strictly inside the triangle (a margin
+// of 1e-6 of the sizes on both), so touching along a shared edge or at a shared vertex does not
+// count. Coplanar pairs (a contact's triangles lie in one plane) never cross this way.
+bool segment_crosses(Vec3d p, Vec3d q, Vec3d a, Vec3d b, Vec3d c) {
+  const Vec3d n = cross(b - a, c - a);
+  const double dp = dot(n, p - a), dq = dot(n, q - a);
+  const double scale = norm(n) * (norm(q - p) + 1e-12);
+  if (!(dp * dq < 0) || std::abs(dp) < 1e-6 * scale || std::abs(dq) < 1e-6 * scale) return false;
+  const Vec3d x = p + (dp / (dp - dq)) * (q - p);
+  const double nn = dot(n, n);
+  const double u = dot(cross(c - b, x - b), n) / nn, v = dot(cross(a - c, x - c), n) / nn;
+  const double w = 1 - u - v;
+  return u > 1e-6 && v > 1e-6 && w > 1e-6;
+}
+
+// How many edges of one mesh cross a triangle of the other, both ways (candidates from a grid of
+// 1 mm cells over the second mesh's triangle boxes; a pair met in several cells counts once per
+// cell, which keeps zero zero).
+size_t crossings(const TriMesh& m1, const TriMesh& m2) {
+  auto corner = [](const TriMesh& m, size_t t, int k) {
+    return to_double(m.positions[m.indices[3 * t + size_t(k)]]);
+  };
+  auto cells = [&](const TriMesh& m, size_t t, auto&& visit) {
+    Vec3d lo = corner(m, t, 0), hi = lo;
+    for (int k = 1; k < 3; ++k) {
+      const Vec3d v = corner(m, t, k);
+      lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
+      hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
+    }
+    for (int64_t z = int64_t(std::floor(lo.z)); z <= int64_t(std::floor(hi.z)); ++z)
+      for (int64_t y = int64_t(std::floor(lo.y)); y <= int64_t(std::floor(hi.y)); ++y)
+        for (int64_t x = int64_t(std::floor(lo.x)); x <= int64_t(std::floor(hi.x)); ++x)
+          visit(((z + 4096) << 26) ^ ((y + 4096) << 13) ^ (x + 4096));
+  };
+  size_t count = 0;
+  auto one_way = [&](const TriMesh& e, const TriMesh& f) {
+    std::unordered_map<int64_t, std::vector<uint32_t>> grid;
+    for (size_t t = 0; t < f.triangle_count(); ++t)
+      cells(f, t, [&](int64_t key) { grid[key].push_back(uint32_t(t)); });
+    for (size_t s = 0; s < e.triangle_count(); ++s)
+      cells(e, s, [&](int64_t key) {
+        const auto it = grid.find(key);
+        if (it == grid.end()) return;
+        for (uint32_t t : it->second)
+          for (int k = 0; k < 3; ++k)
+            count += segment_crosses(corner(e, s, k), corner(e, s, (k + 1) % 3), corner(f, t, 0),
+                                     corner(f, t, 1), corner(f, t, 2));
+      });
+  };
+  one_way(m1, m2);
+  one_way(m2, m1);
+  return count;
 }
 
 void expect_sound_shells(const Scene& scene) {
@@ -133,6 +190,58 @@ TEST(JointSmoothing, ThePhantomKeepsItsContactsAndVolumes) {
     on_two += near >= 2;
   }
   EXPECT_EQ(on_two, contact.size());
+  // No screw's triangle crosses the bone's. The plate, 4 mm thick on the bone, still crosses it
+  // in a few places near its rim after smoothing (measured: 0 unsmoothed; the default smoothing
+  // 72 and 70 edge crossings with the two fragments, 3306 and 3318 with independent surfaces):
+  // a known defect of the joint smoothing at junction curves, bounded here so it cannot grow.
+  const SceneMeasures m = measure_scene(conforming, {});
+  ASSERT_EQ(m.contacts.size(), 8u);  // the plate on both fragments, the six screws
+  for (const ContactMeasures& c : m.contacts) {
+    const Part& a = conforming.parts[c.a];
+    const Part& b = conforming.parts[c.b];
+    const size_t crossed = crossings(a.mesh, b.mesh);
+    if (b.label == 2 && b.component == 1) {  // the plate (the largest implant part)
+      const size_t apart = crossings(independent.parts[c.a].mesh, independent.parts[c.b].mesh);
+      EXPECT_GT(apart, 1000u) << a.name << " " << b.name;
+      EXPECT_LT(crossed, apart / 20) << a.name << " " << b.name;
+    } else {
+      EXPECT_EQ(crossed, 0u) << a.name << " " << b.name;
+    }
+  }
+}
+
+// The contact seen from both shells: no triangle of one part crosses the other's, and at a
+// contact vertex inside the contact each part's normal points out of that part, so the two are
+// opposite.
+TEST(JointSmoothing, TouchingPartsNeitherCrossNorShareNormals) {
+  const Image image = image_of(screw_in_block());
+  MeshingOptions o;
+  o.surfaces = Surfaces::conforming;
+  const Scene scene = build_scene(image, o);
+  ASSERT_EQ(scene.parts.size(), 2u);
+  EXPECT_EQ(crossings(scene.parts[0].mesh, scene.parts[1].mesh), 0u);
+  // The independent surfaces of the same map do cross (smoothing moved the sides apart and into
+  // each other): the check can fail.
+  o.surfaces = Surfaces::independent;
+  const Scene apart = build_scene(image, o);
+  EXPECT_GT(crossings(apart.parts[0].mesh, apart.parts[1].mesh), 0u);
+
+  // Normals at the vertices both shells have, by position (the contact's vertices).
+  std::map<std::array<float, 3>, Vec3f> block_normal;
+  const TriMesh& block = scene.parts[0].mesh;
+  for (size_t v = 0; v < block.positions.size(); ++v) {
+    const Vec3f p = block.positions[v];
+    block_normal[{p.x, p.y, p.z}] = block.normals[v];
+  }
+  std::vector<double> dots;
+  const TriMesh& screw = scene.parts[1].mesh;
+  for (size_t v = 0; v < screw.positions.size(); ++v) {
+    const Vec3f p = screw.positions[v];
+    const auto it = block_normal.find({p.x, p.y, p.z});
+    if (it != block_normal.end()) dots.push_back(dot(to_double(it->second), to_double(screw.normals[v])));
+  }
+  ASSERT_GT(dots.size(), 100u);
+  EXPECT_LT(percentile(dots, 0.5), -0.99);  // inside the contact: opposite
 }
 
 // The report's contacts: every pair of touching parts with its area, and the largest distance
