@@ -188,6 +188,7 @@ int run_mesh(const MeshArgs& args) {
   if (!args.quiet || report) {
     measuring.run([&] {
       measures = measure_scene(scene, {.quality = report,
+                                       .contacts = report,
                                        .extracted = report && smoothed ? &extracted : nullptr});
       extracted = {};
     });

@@ -97,7 +97,7 @@ SceneMeasures measure_scene(const Scene& scene, const MeasureRequest& request,
     shared.done(p);
   });
   throw_if_cancelled(progress);
-  if (scene.surface) out.contacts = measure_contacts(scene);
+  if (scene.surface && request.contacts) out.contacts = measure_contacts(scene);
   return out;
 }
 

@@ -46,6 +46,7 @@ struct SceneMeasures {
 
 struct MeasureRequest {
   bool quality = true;
+  bool contacts = true;  // with conforming surfaces: every contact's area and gap
   // The positions before smoothing (ExtractedPositions, one entry per part, each as long as the
   // part's positions), or nullptr: no volume change and no deviation.
   const ExtractedPositions* extracted = nullptr;

@@ -260,6 +260,7 @@ TEST(JointSmoothing, ContactsAreMeasuredOnTheShellsAsWritten) {
   EXPECT_GT(m.contacts[0].area_mm2, 150);
   EXPECT_LT(m.contacts[0].area_mm2, 230);
   EXPECT_LT(m.contacts[0].max_gap_mm, 1e-4);
+  EXPECT_TRUE(measure_scene(scene, {.contacts = false}).contacts.empty());  // not asked for
   for (Vec3f& p : scene.parts[1].mesh.positions) p.x += 0.1f;
   m = measure_scene(scene, {});
   EXPECT_NEAR(m.contacts[0].max_gap_mm, 0.1, 0.02);
