@@ -67,17 +67,33 @@ std::string got(double v) {
   return " (got " + number_text(v) + ")";
 }
 
+
+// What keeps a request from conforming surfaces, if anything: the one rule behind the automatic
+// choice, the refusal of --surfaces conforming and surfaces_note.
+enum class ConformingObstacle { none, dual_contouring, iso, presmooth };
+
+ConformingObstacle conforming_obstacle(const MeshingOptions& o) {
+  if (o.method != Method::marching_cubes) return ConformingObstacle::dual_contouring;
+  if (o.iso) return ConformingObstacle::iso;
+  if (o.volume_sigma_mm > 0) return ConformingObstacle::presmooth;
+  return ConformingObstacle::none;
+}
+
 }  // namespace
 
 std::optional<std::string> surfaces_note(const MeshingOptions& o) {
+  // Grey values are no label map: nothing to say.
   if (o.surfaces != Surfaces::automatic || o.iso) return std::nullopt;
-  if (o.method == Method::dual_contouring) {
-    return "Dual Contouring meshes every part on its own: where parts touch, each has its own "
-           "surface (use --method mc for shared contacts)";
-  }
-  if (o.volume_sigma_mm > 0) {
-    return "--presmooth smooths every part's own field: where parts touch, each has its own "
-           "surface (smooth the mesh instead for shared contacts)";
+  switch (conforming_obstacle(o)) {
+    case ConformingObstacle::dual_contouring:
+      return "Dual Contouring meshes every part on its own: where parts touch, each has its own "
+             "surface (use --method mc for shared contacts)";
+    case ConformingObstacle::presmooth:
+      return "--presmooth smooths every part's own field: where parts touch, each has its own "
+             "surface (smooth the mesh instead for shared contacts)";
+    case ConformingObstacle::iso:
+    case ConformingObstacle::none:
+      break;
   }
   return std::nullopt;
 }
@@ -103,18 +119,24 @@ MeshingOptions resolve_meshing_options(MeshingOptions o) {
   if (!(o.dc_tolerance_mm >= 0) || !std::isfinite(o.dc_tolerance_mm)) {
     fail("--dc-tolerance must be a non-negative number of millimetres" + got(o.dc_tolerance_mm));
   }
+  const ConformingObstacle obstacle = conforming_obstacle(o);
   if (o.surfaces == Surfaces::automatic) {
-    const bool conforming = !o.iso && o.method == Method::marching_cubes && o.volume_sigma_mm == 0;
-    o.surfaces = conforming ? Surfaces::conforming : Surfaces::independent;
+    o.surfaces = obstacle == ConformingObstacle::none ? Surfaces::conforming : Surfaces::independent;
   } else if (o.surfaces == Surfaces::conforming) {
-    if (o.method != Method::marching_cubes) {
-      fail("--surfaces conforming needs --method mc (Dual Contouring meshes each part on its own: "
-           "add --surfaces independent)");
-    }
-    if (o.iso) fail("--surfaces conforming meshes label maps; with --iso use --surfaces independent");
-    if (o.volume_sigma_mm > 0) {
-      fail("--presmooth smooths each part's own field; with --surfaces conforming smooth the mesh "
-           "instead (--smooth), or add --surfaces independent");
+    switch (obstacle) {
+      case ConformingObstacle::dual_contouring:
+        fail("--surfaces conforming needs --method mc (Dual Contouring meshes each part on its "
+             "own: add --surfaces independent)");
+        break;
+      case ConformingObstacle::iso:
+        fail("--surfaces conforming meshes label maps; with --iso use --surfaces independent");
+        break;
+      case ConformingObstacle::presmooth:
+        fail("--presmooth smooths each part's own field; with --surfaces conforming smooth the "
+             "mesh instead (--smooth), or add --surfaces independent");
+        break;
+      case ConformingObstacle::none:
+        break;
     }
   }
   SmoothOptions& s = o.smooth;
