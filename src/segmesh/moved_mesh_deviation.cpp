@@ -23,7 +23,6 @@ constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
 // number of threads.
 constexpr size_t kSampleBlock = 4096;
 
-
 // A fixed pseudo-random choice of samples: sample s is measured for the statistics when its hash
 // falls below `threshold` (out of 2^32).
 bool chosen(uint64_t s, uint64_t threshold) {
@@ -32,6 +31,31 @@ bool chosen(uint64_t s, uint64_t threshold) {
   h *= 0xBF58476D1CE4E5B9ull;
   h ^= h >> 32;
   return (h & 0xffffffffu) < threshold;
+}
+
+// Searches the samples that `each` offers (each(add) calls add(s) for every sample id s to
+// search; sample(s, p, bound, start) as in measure_direction) in groups of kTreeGroup, each below
+// its counterpart's distance, stopping at its start leaf when that brings it to `enough2`; calls
+// found(distance) for each, in the order offered.
+template <class Each, class Sample, class Found>
+void search_in_groups(const OrderedTriangleTree& target, Each&& each, Sample&& sample,
+                      double enough2, Found&& found) {
+  Vec3d p[kTreeGroup];
+  double best2[kTreeGroup];
+  size_t start[kTreeGroup];
+  size_t count = 0;
+  auto flush = [&] {
+    target.nearest2_group(p, best2, start, count, enough2);
+    for (size_t k = 0; k < count; ++k) found(std::sqrt(best2[k]));
+    count = 0;
+  };
+  each([&](size_t s) {
+    double bound;
+    if (!sample(s, p[count], bound, start[count])) return;
+    best2[count] = bound * bound;
+    if (++count == kTreeGroup) flush();
+  });
+  if (count > 0) flush();
 }
 
 struct Direction {
@@ -78,27 +102,17 @@ Direction measure_direction(const std::vector<Vec3f>& from, const std::vector<Ve
     for (size_t b = r.begin(); b != r.end(); ++b) {
       double sum = 0, max = 0;
       std::vector<double>& out = block_distances[b];
-      Vec3d p[kTreeGroup];
-      double best2[kTreeGroup];
-      size_t start[kTreeGroup];
-      size_t count = 0;
-      auto flush = [&] {
-        target.nearest2_group(p, best2, start, count);
-        for (size_t k = 0; k < count; ++k) {
-          const double d = std::sqrt(best2[k]);
-          out.push_back(d);
-          sum += d;
-          max = std::max(max, d);
-        }
-        count = 0;
-      };
-      for (size_t s = b * kSampleBlock, end = std::min(n, (b + 1) * kSampleBlock); s < end; ++s) {
-        double bound;
-        if (!chosen(s, threshold) || !sample(s, p[count], bound, start[count])) continue;
-        best2[count] = bound * bound;
-        if (++count == kTreeGroup) flush();
-      }
-      if (count > 0) flush();
+      search_in_groups(
+          target,
+          [&](auto&& add) {
+            for (size_t s = b * kSampleBlock, end = std::min(n, (b + 1) * kSampleBlock); s < end; ++s)
+              if (chosen(s, threshold)) add(s);
+          },
+          sample, -1, [&](double d) {
+            out.push_back(d);
+            sum += d;
+            max = std::max(max, d);
+          });
       block_sum[b] = sum;
       block_max[b] = max;
     }
@@ -158,24 +172,14 @@ Direction measure_direction(const std::vector<Vec3f>& from, const std::vector<Ve
   const double max = dir.max;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t b = r.begin(); b != r.end(); ++b) {
-      Vec3d p[kTreeGroup];
-      double best2[kTreeGroup];
-      size_t start[kTreeGroup];
-      size_t count = 0;
       double block = 0;
-      auto flush = [&] {
-        target.nearest2_group(p, best2, start, count, max * max);
-        for (size_t k = 0; k < count; ++k) block = std::max(block, std::sqrt(best2[k]));
-        count = 0;
-      };
-      for (const Candidate& c : block_candidates[b]) {
-        if (!(c.bound > max)) continue;
-        double bound;
-        sample(c.sample, p[count], bound, start[count]);
-        best2[count] = bound * bound;
-        if (++count == kTreeGroup) flush();
-      }
-      if (count > 0) flush();
+      search_in_groups(
+          target,
+          [&](auto&& add) {
+            for (const Candidate& c : block_candidates[b])
+              if (c.bound > max) add(c.sample);
+          },
+          sample, max * max, [&](double d) { block = std::max(block, d); });
       block_max[b] = block;
     }
   });
