@@ -201,9 +201,6 @@ Scene extract_parts(const Image& image, const PipelineParts& parts, const Meshin
   scene.grid = image.grid();
   scene.parts.resize(parts.kept.size());
   const Components& components = parts.components;
-  // Each part's share of the step is its voxel count.
-  std::vector<double> weights;
-  for (size_t c : parts.kept) weights.push_back(double(components.components[c].voxels));
   scene.conforming = o.surfaces == Surfaces::conforming;
   // Parts that touch nowhere are meshed one by one: the same surfaces, without the cost of one.
   if (scene.conforming && parts.touching) {
@@ -215,6 +212,9 @@ Scene extract_parts(const Image& image, const PipelineParts& parts, const Meshin
     set_part_shells(scene);
     return scene;
   }
+  // Each part's share of the step is its voxel count.
+  std::vector<double> weights;
+  for (size_t c : parts.kept) weights.push_back(double(components.components[c].voxels));
   PartsProgress shared(progress, weights);
   const PartSource source{image, components, parts.range};
   // Dual Contouring's solved neighbourhoods, shared by the parts (dual_contouring.hpp).
