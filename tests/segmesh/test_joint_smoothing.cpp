@@ -18,17 +18,10 @@
 #include "segmesh/pipeline.hpp"
 #include "segmesh/quality.hpp"
 #include "segmesh/scene_measures.hpp"
+#include "support/test_fields.hpp"
 
 namespace segmesh {
 namespace {
-
-Image image_of(LabelVolume v) {
-  Image image;
-  image.path = "test";
-  image.voxel_type = "uint8";
-  image.volume = std::move(v);
-  return image;
-}
 
 // A 40 x 40 x 40 voxel bone block (label 1, 0.5 mm voxels) with a screw (label 2): a shaft of
 // radius 3 voxels along z through most of the block and a head above it, in the background.
@@ -130,7 +123,7 @@ void expect_sound_shells(const Scene& scene) {
 }
 
 TEST(JointSmoothing, AScrewStaysInContactWithItsBlockThroughEverySmoothing) {
-  const Image image = image_of(screw_in_block());
+  const Image image = test::label_image(screw_in_block());
   for (SmoothMethod method :
        {SmoothMethod::sinc, SmoothMethod::hc, SmoothMethod::taubin, SmoothMethod::laplacian}) {
     MeshingOptions o;
@@ -163,7 +156,7 @@ TEST(JointSmoothing, AScrewStaysInContactWithItsBlockThroughEverySmoothing) {
 }
 
 TEST(JointSmoothing, ThePhantomKeepsItsContactsAndVolumes) {
-  const Image image = image_of(make_phantom({.size = {256, 256, 102}, .spacing = {0.394, 0.394, 4}}));
+  const Image image = test::label_image(make_phantom({.size = {256, 256, 102}, .spacing = {0.394, 0.394, 4}}));
   MeshingOptions o;
   o.surfaces = Surfaces::conforming;
   const Scene conforming = build_scene(image, o);
@@ -218,7 +211,7 @@ TEST(JointSmoothing, ThePhantomKeepsItsContactsAndVolumes) {
 // contact vertex inside the contact each part's normal points out of that part, so the two are
 // opposite.
 TEST(JointSmoothing, TouchingPartsNeitherCrossNorShareNormals) {
-  const Image image = image_of(screw_in_block());
+  const Image image = test::label_image(screw_in_block());
   MeshingOptions o;
   o.surfaces = Surfaces::conforming;
   const Scene scene = build_scene(image, o);
@@ -252,7 +245,7 @@ TEST(JointSmoothing, TouchingPartsNeitherCrossNorShareNormals) {
 // from a contact vertex to either shell as written: 0 when the two sides are one surface, the
 // shift when one shell is moved off it.
 TEST(JointSmoothing, ContactsAreMeasuredOnTheShellsAsWritten) {
-  const Image image = image_of(screw_in_block());
+  const Image image = test::label_image(screw_in_block());
   MeshingOptions o;
   o.surfaces = Surfaces::conforming;
   Scene scene = build_scene(image, o);
@@ -287,7 +280,7 @@ TEST(JointSmoothing, PartsThatDoNotTouchGiveTheIndependentSurfaces) {
         if (i < 18 && r < 7) v.at(i, j, k) = 1;                         // a rod
         if (i >= 20 && r < 5 + 0.1 * double(i - 20)) v.at(i, j, k) = 2;  // a cone, 1 voxel apart
       }
-  const Image image = image_of(v);
+  const Image image = test::label_image(v);
   MeshingOptions o;
   o.surfaces = Surfaces::conforming;
   const Scene scene = build_scene(image, o);

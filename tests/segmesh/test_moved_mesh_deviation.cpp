@@ -15,6 +15,7 @@
 #include "segmesh/quality.hpp"
 #include "segmesh/scene_measures.hpp"
 #include "segmesh/smoothing.hpp"
+#include "support/test_fields.hpp"
 
 namespace segmesh {
 namespace {
@@ -139,10 +140,8 @@ TEST(MovedMeshDeviation, EmptyMeshesDeviateByZero) {
 // the report's numbers per part equal the general path's exact ones: the Hausdorff distance to
 // 1e-4 mm, mean and 95th percentile within 1 %.
 TEST(MovedMeshDeviation, PhantomPartsMatchTheExactDeviation) {
-  Image image;
-  image.path = "phantom";
-  image.voxel_type = "uint8";
-  image.volume = make_phantom({.size = {256, 256, 102}, .spacing = {0.394, 0.394, 4}});
+  const Image image =
+      test::label_image(make_phantom({.size = {256, 256, 102}, .spacing = {0.394, 0.394, 4}}));
   ExtractedPositions extracted;
   const Scene scene = build_scene(image, {}, null_progress(), nullptr, &extracted);
   const std::vector<PartMeasures> measures = measure_scene(scene, {.extracted = &extracted}).parts;

@@ -9,17 +9,12 @@
 
 #include "segmesh/error.hpp"
 #include "segmesh/mesh_measures.hpp"
+#include "support/test_fields.hpp"
 
 namespace segmesh {
 namespace {
 
-Image label_image(LabelVolume v) {
-  Image image;
-  image.path = "test.nii.gz";
-  image.voxel_type = "uint8";
-  image.volume = std::move(v);
-  return image;
-}
+using test::label_image;
 
 LabelVolume empty_labels(std::array<int64_t, 3> dims) {
   LabelVolume v;

@@ -17,17 +17,10 @@
 #include "segmesh/error.hpp"
 #include "segmesh/mesh_measures.hpp"
 #include "segmesh/pipeline.hpp"
+#include "support/test_fields.hpp"
 
 namespace segmesh {
 namespace {
-
-Image label_image(LabelVolume v) {
-  Image image;
-  image.path = "robust.nii.gz";
-  image.voxel_type = "uint8";
-  image.volume = std::move(v);
-  return image;
-}
 
 Image grey_image(ScalarVolume v) {
   Image image;
@@ -99,7 +92,7 @@ void check_all_settings(const LabelVolume& volume, const std::string& what,
   for (const Setting& s : all_settings()) {
     SCOPED_TRACE(what + ", " + s.name());
     Scene scene;
-    ASSERT_NO_THROW(scene = build_scene(label_image(volume), s.options()));
+    ASSERT_NO_THROW(scene = build_scene(test::label_image(volume, "robust.nii.gz"), s.options()));
     EXPECT_EQ(expect_sound_scene(scene, what + ", " + s.name()), parts(s.connectivity));
   }
 }
@@ -145,7 +138,7 @@ TEST(Robustness, OneVoxelThinWallsAndRodsAcrossTheWholeVolume) {
       }
   check_all_settings(box, "hollow box", [](int) { return size_t(1); });
   for (Method m : {Method::marching_cubes, Method::dual_contouring}) {
-    const Scene scene = build_scene(label_image(box), {.method = m});
+    const Scene scene = build_scene(test::label_image(box, "robust.nii.gz"), {.method = m});
     EXPECT_EQ(measure_mesh(scene.parts[0].mesh).shells, 2) << method_name(m);
   }
 }
@@ -187,7 +180,7 @@ TEST(Robustness, RandomLabelNoiseGivesClosedParts) {
     for (int32_t& x : v.voxels) x = label(random) == 0 ? 0 : (random() % 3 == 0 ? 2 : 1);
     for (const Setting& s : all_settings()) {
       SCOPED_TRACE("noise round " + std::to_string(round) + ", " + s.name());
-      const Scene scene = build_scene(label_image(v), s.options());
+      const Scene scene = build_scene(test::label_image(v, "robust.nii.gz"), s.options());
       expect_sound_scene(scene, "noise, " + s.name());
     }
   }
@@ -197,7 +190,7 @@ TEST(Robustness, EmptyLabelsAreClearErrors) {
   LabelVolume v = labels({5, 5, 5});
   for (Method m : {Method::marching_cubes, Method::dual_contouring}) {
     try {
-      build_scene(label_image(v), {.method = m});
+      build_scene(test::label_image(v, "robust.nii.gz"), {.method = m});
       ADD_FAILURE() << "an empty volume was meshed";
     } catch (const Error& e) {
       EXPECT_NE(std::string(e.what()).find("robust.nii.gz: no foreground"), std::string::npos)
@@ -205,7 +198,7 @@ TEST(Robustness, EmptyLabelsAreClearErrors) {
     }
     v.at(2, 2, 2) = 1;
     try {
-      build_scene(label_image(v), {.method = m, .labels = {4}});
+      build_scene(test::label_image(v, "robust.nii.gz"), {.method = m, .labels = {4}});
       ADD_FAILURE() << "a missing label was meshed";
     } catch (const Error& e) {
       EXPECT_NE(std::string(e.what()).find("label 4 is not in the volume"), std::string::npos)

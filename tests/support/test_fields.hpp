@@ -6,12 +6,24 @@
 #include <cstdint>
 #include <cstring>
 #include <random>
+#include <string>
 #include <vector>
 
+#include "segmesh/image.hpp"
 #include "segmesh/tri_mesh.hpp"
 #include "segmesh/volume.hpp"
 
 namespace segmesh::test {
+
+// A label map as the pipeline's input, as read from a uint8 file named `path` (error messages
+// name it).
+inline Image label_image(LabelVolume v, std::string path = "test.nii.gz") {
+  Image image;
+  image.path = std::move(path);
+  image.voxel_type = "uint8";
+  image.volume = std::move(v);
+  return image;
+}
 
 // A label map of random voxels: each filled with probability `density`, with a label drawn from
 // 1 .. labels; parts touch the volume's border.
