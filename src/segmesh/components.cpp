@@ -276,38 +276,48 @@ template Components find_components_above(const Volume<float>&, double, int, Pro
 
 bool components_touch(const Components& c, const std::vector<size_t>& which) {
   if (which.size() < 2) return false;
+  // The runs bucketed by row (z, y) over the parts' bounding box, with an empty row before and
+  // after every slice's rows and an empty slice at the end, so the neighbour rows of every run
+  // exist and never wrap into another slice. A counting sort: no comparison sort of the runs.
+  std::array<int64_t, 3> lo = c.components[which[0]].first, hi = c.components[which[0]].last;
+  for (size_t k : which)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], c.components[k].first[a]);
+      hi[a] = std::max(hi[a], c.components[k].last[a]);
+    }
+  const int64_t rows_per_slice = hi[1] - lo[1] + 3;
+  const size_t rows = size_t((hi[2] - lo[2] + 2) * rows_per_slice);
+  auto row_of = [&](const VoxelRun& r) {
+    return size_t((r.z - lo[2]) * rows_per_slice + (r.y - lo[1] + 1));
+  };
   struct Run {
-    int64_t row;  // z * (max y + 2) + y: rows in (z, y) order
     int32_t x_begin, x_end;
     uint32_t part;
   };
-  int64_t rows_per_slice = 0;
-  for (size_t k : which) rows_per_slice = std::max(rows_per_slice, c.components[k].last[1] + 2);
-  std::vector<Run> runs;
+  std::vector<uint32_t> first(rows + 1, 0);
+  for (size_t k : which)
+    for (const VoxelRun& r : c.runs_of(c.components[k])) ++first[row_of(r) + 1];
+  for (size_t r = 0; r < rows; ++r) first[r + 1] += first[r];
+  std::vector<Run> runs(first[rows]);
+  std::vector<uint32_t> fill(first.begin(), first.end() - 1);
   for (size_t p = 0; p < which.size(); ++p)
     for (const VoxelRun& r : c.runs_of(c.components[which[p]]))
-      runs.push_back({int64_t{r.z} * rows_per_slice + r.y, r.x_begin, r.x_end, uint32_t(p)});
-  auto before = [](const Run& a, const Run& b) {
-    return a.row != b.row ? a.row < b.row : a.x_begin < b.x_begin;
-  };
-  std::sort(runs.begin(), runs.end(), before);
-  // Each run against the runs after it in its own row and in the four rows after its own that
-  // hold 26-neighbours ((y + 1, z), and (y - 1 .. y + 1, z + 1)); the other four are covered from
-  // the other side.
-  for (size_t i = 0; i < runs.size(); ++i) {
-    const Run& a = runs[i];
-    for (int64_t d : {int64_t{0}, int64_t{1}, rows_per_slice - 1, rows_per_slice, rows_per_slice + 1}) {
-      const int64_t row = a.row + d;
-      auto it = std::lower_bound(runs.begin(), runs.end(), Run{row, a.x_begin - 1, 0, 0}, before);
-      if (d == 0) it = runs.begin() + ptrdiff_t(i) + 1;
-      // Runs in `row` starting before a's end + 1 whose end reaches a's begin - 1 touch it. A run
-      // that starts before a.x_begin - 1 can still reach it: look one run back.
-      if (d != 0 && it != runs.begin() && std::prev(it)->row == row) --it;
-      for (; it != runs.end() && it->row == row && it->x_begin <= a.x_end; ++it) {
-        if (it->x_end >= a.x_begin && it->part != a.part) return true;
-      }
+      runs[fill[row_of(r)]++] = {r.x_begin, r.x_end, uint32_t(p)};
+  // Each run against the other runs of its own row and of the four rows after its own that hold
+  // 26-neighbours ((y + 1, z), and (y - 1 .. y + 1, z + 1)); the other four are covered from the
+  // other side. Rows hold a few runs each, so they are scanned whole. Runs of one row are
+  // disjoint: two of them touch when one ends where the other begins.
+  const size_t offsets[] = {0, 1, size_t(rows_per_slice) - 1, size_t(rows_per_slice),
+                            size_t(rows_per_slice) + 1};
+  for (size_t row = 0; row + size_t(rows_per_slice) + 1 < rows; ++row)
+    for (uint32_t i = first[row]; i < first[row + 1]; ++i) {
+      const Run& a = runs[i];
+      for (size_t d : offsets)
+        for (uint32_t k = first[row + d]; k < first[row + d + 1]; ++k) {
+          const Run& b = runs[k];
+          if (b.part != a.part && b.x_begin <= a.x_end && b.x_end >= a.x_begin) return true;
+        }
     }
-  }
   return false;
 }
 
