@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "segmesh/detail/float4.hpp"
+#include "segmesh/detail/fold_repair.hpp"
 #include "segmesh/detail/smoothing_filters.hpp"
 #include "segmesh/detail/smoothing_sweeps.hpp"
 #include "segmesh/detail/volume_restoration.hpp"
@@ -178,6 +179,7 @@ void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Prog
     if (m != 0 && restore[m].delta != 0) p = p + restore[m].delta * normal[i];
     mesh.positions[i] = to_float(p);
   });
+  repair_folds(mesh, original, topology.smooth.role);
 }
 
 }  // namespace segmesh

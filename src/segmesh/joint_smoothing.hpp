@@ -17,6 +17,10 @@
 // background (enclosed by others) keeps the volume smoothing leaves it; one smoothing nearly
 // erased (below a quarter of its volume) gets its background vertices back unsmoothed.
 //
+// Where smoothing folded the surface near a junction (one sheet pulled through another), the
+// corners of the crossing triangles go back toward their extracted positions until nothing
+// crosses (detail/fold_repair.hpp).
+//
 // The surface's normals are cleared: part_shells' meshes get their own (compute_vertex_normals).
 // Cost: smooth_mesh's on the shared surface, plus one sort of the edges between vertices of two
 // or more interfaces (a small fraction of all edges) and one pass over the triangles per part
