@@ -100,7 +100,7 @@ TEST(MeshingSettings, PanelFieldsBecomeOptions) {
   s.normals = NormalMethod::sobel;
   s.smooth = SmoothMethod::hc;
   s.iterations = 2;
-  s.labels = " 2, 1 7";
+  s.labels = "2,1,7";  // as `--labels` takes them
   const MeshingOptions o = meshing_options(s);
   EXPECT_EQ(o.method, Method::dual_contouring);
   EXPECT_EQ(o.normals, NormalMethod::sobel);
@@ -109,12 +109,28 @@ TEST(MeshingSettings, PanelFieldsBecomeOptions) {
   EXPECT_EQ(o.labels, (std::vector<int32_t>{2, 1, 7}));
 }
 
-TEST(MeshingSettings, BadLabelsAreAnError) {
-  EXPECT_THROW(parse_label_list("1,x"), Error);
-  EXPECT_THROW(parse_label_list("1.5"), Error);
-  EXPECT_THROW(parse_label_list("99999999999"), Error);
-  EXPECT_EQ(parse_label_list("-3"), (std::vector<int32_t>{-3}));
-  EXPECT_TRUE(parse_label_list(" , ").empty());
+TEST(MeshingSettings, LabelsAreReadAsTheCommandLineReadsThem) {
+  // The field goes through `--labels`'s own parser: the same text, the same messages.
+  auto labels = [](std::string text) {
+    MeshingSettings s;
+    s.labels = std::move(text);
+    return meshing_options(s).labels;
+  };
+  EXPECT_EQ(labels("-3"), (std::vector<int32_t>{-3}));
+  EXPECT_EQ(labels("4,,5,"), (std::vector<int32_t>{4, 5}));
+  EXPECT_TRUE(labels("").empty());
+  MeshingOptions cli;
+  find_meshing_option("labels")->set(cli, "3,1");
+  EXPECT_EQ(labels("3,1"), cli.labels);
+  for (const char* bad : {"1,x", "1.5", "99999999999", "1 2"}) {
+    try {
+      labels(bad);
+      ADD_FAILURE() << bad << " was taken";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("--labels"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(labels("0"), Error);  // the background: refused when resolving
   MeshingSettings s;
   s.iterations = -1;
   EXPECT_THROW(meshing_options(s), Error);
