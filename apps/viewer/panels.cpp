@@ -4,11 +4,14 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <string>
+#include <string_view>
 
 #include "segmesh/error.hpp"
 #include "segmesh/smoothing.hpp"
 #include "segmesh_viewer/move_history.hpp"
 #include "segmesh_viewer/part_groups.hpp"
+#include "segmesh_viewer/part_table.hpp"
 #include "segmesh_viewer/save_scene.hpp"
 #include "segmesh_viewer/view_controls.hpp"
 #include "viewer_app.hpp"
@@ -262,6 +265,9 @@ void ViewerApp::draw_selection_section() {
       row("radii ratio min", "%.3f", s.rho_min);
       row("radii ratio mean", "%.3f", s.rho_mean);
       row("closed", "%s", s.closed ? "yes" : "no");
+      for (const std::string& contact : viewer::part_table_row(state_.scene, state_.stats, i).contacts) {
+        row("contact", "%s", contact.c_str());
+      }
       ImGui::EndTable();
     }
   }
@@ -271,31 +277,24 @@ void ViewerApp::draw_statistics_section() {
   if (!ImGui::CollapsingHeader("Statistics (all parts)")) return;
   const ImGuiTableFlags flags = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV |
                                 ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_ScrollX;
-  if (!ImGui::BeginTable("all_stats", 7, flags)) return;
-  for (const char* name : {"part", "triangles", "area mm2", "volume mm3", "rho min", "rho mean", "closed"}) {
-    ImGui::TableSetupColumn(name);
-  }
+  if (!ImGui::BeginTable("all_stats", int(viewer::kPartTableColumns.size()), flags)) return;
+  for (std::string_view name : viewer::kPartTableColumns) ImGui::TableSetupColumn(std::string(name).c_str());
   ImGui::TableHeadersRow();
-  for (size_t i = 0; i < state_.scene.parts.size() && i < state_.stats.size(); ++i) {
-    const viewer::PartStats& s = state_.stats[i];
+  const std::vector<viewer::PartTableRow> rows = viewer::part_table(state_.scene, state_.stats);
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const viewer::PartTableRow& row = rows[i];
     ImGui::TableNextRow();
     ImGui::TableSetColumnIndex(0);
-    if (ImGui::Selectable(state_.scene.parts[i].name.c_str(), state_.selected == int(i),
-                          ImGuiSelectableFlags_SpanAllColumns)) {
+    if (ImGui::Selectable(row.cells[0].c_str(), state_.selected == int(i), ImGuiSelectableFlags_SpanAllColumns)) {
       viewer::select_part(state_, int(i));
     }
-    ImGui::TableSetColumnIndex(1);
-    ImGui::Text("%lld", (long long)s.triangles);
-    ImGui::TableSetColumnIndex(2);
-    ImGui::Text("%.1f", s.area_mm2);
-    ImGui::TableSetColumnIndex(3);
-    ImGui::Text("%.1f", s.volume_mm3);
-    ImGui::TableSetColumnIndex(4);
-    ImGui::Text("%.3f", s.rho_min);
-    ImGui::TableSetColumnIndex(5);
-    ImGui::Text("%.3f", s.rho_mean);
-    ImGui::TableSetColumnIndex(6);
-    ImGui::TextUnformatted(s.closed ? "yes" : "no");
+    for (size_t c = 1; c < row.cells.size(); ++c) {
+      ImGui::TableSetColumnIndex(int(c));
+      ImGui::TextUnformatted(row.cells[c].c_str());
+    }
+    // One line per contact; a part without contacts leaves the cell empty.
+    ImGui::TableSetColumnIndex(int(row.cells.size()));
+    for (const std::string& contact : row.contacts) ImGui::TextUnformatted(contact.c_str());
   }
   ImGui::EndTable();
 }

@@ -31,11 +31,19 @@ PartStats measure_part(const TriMesh& mesh) {
 }
 
 std::vector<PartStats> measure_parts(const Scene& scene, Progress& progress) {
-  const std::vector<PartMeasures> measures =
-      measure_scene(scene, {.quality = true}, progress).parts;
+  const SceneMeasures measures = measure_scene(scene, {.quality = true, .contacts = true}, progress);
   std::vector<PartStats> stats;
-  stats.reserve(measures.size());
-  for (const PartMeasures& m : measures) stats.push_back(to_stats(m));
+  stats.reserve(measures.parts.size());
+  for (const PartMeasures& m : measures.parts) stats.push_back(to_stats(m));
+  // Every contact under both its parts, each part's list ordered by the other part.
+  for (const ContactMeasures& c : measures.contacts) {
+    stats[c.a].contacts.push_back({c.b, c.area_mm2, c.max_gap_mm});
+    stats[c.b].contacts.push_back({c.a, c.area_mm2, c.max_gap_mm});
+  }
+  for (PartStats& s : stats) {
+    std::sort(s.contacts.begin(), s.contacts.end(),
+              [](const ContactStats& x, const ContactStats& y) { return x.other < y.other; });
+  }
   return stats;
 }
 
