@@ -88,6 +88,14 @@ void ViewerApp::draw_meshing_section() {
   ImGui::BeginDisabled(status.running);
   enum_combo("method", meshing_.method,
              {std::pair{Method::marching_cubes, "Marching Cubes"}, std::pair{Method::dual_contouring, "Dual Contouring"}});
+  enum_combo("surfaces", meshing_.surfaces,
+             {std::pair{Surfaces::automatic, "automatic"}, std::pair{Surfaces::conforming, "conforming"},
+              std::pair{Surfaces::independent, "independent"}});
+  if (ImGui::IsItemHovered()) {
+    ImGui::SetTooltip("conforming: touching parts share one surface at their contact\n"
+                      "independent: every part meshed and smoothed on its own\n"
+                      "automatic: conforming with Marching Cubes, independent with Dual Contouring");
+  }
   enum_combo("normals", meshing_.normals,
              {std::pair{NormalMethod::central, "central differences"}, std::pair{NormalMethod::sobel, "Sobel"}});
   if (enum_combo("smoothing", meshing_.smooth,
@@ -110,6 +118,7 @@ void ViewerApp::draw_meshing_section() {
     ImGui::TextDisabled("(open a volume first)");
   }
   ImGui::EndDisabled();
+  if (!state_.surfaces.empty()) ImGui::TextWrapped("%s", state_.surfaces.c_str());
   if (status.running) {
     char overlay[128];
     std::snprintf(overlay, sizeof overlay, "%s %.0f%%", status.step.c_str(), 100 * status.fraction);

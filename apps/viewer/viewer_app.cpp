@@ -56,7 +56,7 @@ void ViewerApp::open_path(const fs::path& path) {
     return;
   }
   try {
-    viewer::LoadRequest request{path, nullptr, viewer::meshing_options(meshing_)};
+    viewer::LoadRequest request{path, nullptr, viewer::meshing_request(meshing_)};
     if (job_.start(std::move(request))) {
       set_message(state_, "opening " + path.string() + " ...");
     }
@@ -69,7 +69,7 @@ void ViewerApp::open_path(const fs::path& path) {
 void ViewerApp::create_mesh() {
   if (!state_.image || job_.status().running) return;
   try {
-    viewer::LoadRequest request{{}, state_.image, viewer::meshing_options(meshing_)};
+    viewer::LoadRequest request{{}, state_.image, viewer::meshing_request(meshing_)};
     if (job_.start(std::move(request))) set_message(state_, "meshing " + state_.image->path + " ...");
   } catch (const Error& e) {
     set_message(state_, e.what(), true);

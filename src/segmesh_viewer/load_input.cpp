@@ -4,6 +4,7 @@
 #include "segmesh_io/mesh_format.hpp"
 #include "segmesh_io/read_mesh.hpp"
 #include "segmesh_io/read_volume.hpp"
+#include "segmesh_viewer/surfaces_summary.hpp"
 
 namespace segmesh::viewer {
 
@@ -33,7 +34,9 @@ LoadResult run_load(const LoadRequest& request, Progress& progress) {
     throw_if_cancelled(progress);
   }
   if (result.kind == InputKind::volume) {
-    result.scene = build_scene(*result.image, request.meshing, progress);
+    PipelineStats pipeline;
+    result.scene = build_scene(*result.image, request.meshing, progress, &pipeline);
+    result.surfaces = surfaces_summary(result.scene, pipeline, request.meshing);
   }
   result.stats = measure_parts(result.scene, progress);
   return result;

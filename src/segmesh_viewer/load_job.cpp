@@ -121,6 +121,7 @@ void finish_load(ViewerState& state, LoadOutcome outcome) {
   if (outcome.kind == LoadOutcome::Kind::loaded && outcome.result) {
     LoadResult& r = *outcome.result;
     set_scene(state, std::move(r.scene), std::move(r.stats), std::move(r.source), std::move(r.image));
+    state.surfaces = std::move(r.surfaces);
     set_message(state, std::move(outcome.message));
   } else {
     set_message(state, std::move(outcome.message), outcome.kind == LoadOutcome::Kind::failed);

@@ -59,8 +59,8 @@ class LoadJob {
   std::jthread thread_;
 };
 
-// Applies an outcome: a loaded result replaces the scene (set_scene); a failure or cancellation
-// keeps the scene. Either way the status message is set (an error for a failure).
+// Applies an outcome: a loaded result replaces the scene (set_scene) and its surfaces line; a
+// failure or cancellation keeps both. Either way the status message is set (an error for a failure).
 void finish_load(ViewerState& state, LoadOutcome outcome);
 
 }  // namespace segmesh::viewer

@@ -2,15 +2,21 @@
 
 namespace segmesh::viewer {
 
-MeshingOptions meshing_options(const MeshingSettings& settings) {
+MeshingOptions meshing_request(const MeshingSettings& settings) {
   MeshingOptions options;
   options.method = settings.method;
+  options.surfaces = settings.surfaces;
   options.normals = settings.normals;
   options.smooth.method = settings.smooth;
   options.smooth.iterations = settings.iterations;
   // The command line's parser, so the field and `--labels` take the same text.
   find_meshing_option("labels")->set(options, settings.labels);
-  return resolve_meshing_options(options);
+  resolve_meshing_options(options);  // refuses what would not run, before any work starts
+  return options;
+}
+
+MeshingOptions meshing_options(const MeshingSettings& settings) {
+  return resolve_meshing_options(meshing_request(settings));
 }
 
 }  // namespace segmesh::viewer

@@ -28,6 +28,7 @@ void set_scene(ViewerState& state, Scene scene, std::vector<PartStats> stats, st
   state.history = {};
   state.source = std::move(source);
   state.image = std::move(image);
+  state.surfaces.clear();
 }
 
 void select_part(ViewerState& state, int index) {

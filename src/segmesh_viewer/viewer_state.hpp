@@ -60,12 +60,14 @@ struct ViewerState {
   MoveHistory history;
   std::string source;             // the file the scene came from ("" before the first load)
   std::shared_ptr<const Image> image;  // the volume the scene was meshed from (null for a mesh file)
+  std::string surfaces;           // which surfaces the meshing made (surfaces_summary); "" otherwise
   std::string message;            // the last status or error line for the window
   bool message_is_error = false;
 };
 
 // Replaces the scene (after a load or a meshing): poses reset, each part's loaded transform kept
-// as its base, selection and history cleared, opacity 1. `stats` may be empty (then measured here).
+// as its base, selection and history cleared, opacity 1, the surfaces line cleared (finish_load
+// sets it for a meshed volume). `stats` may be empty (then measured here).
 void set_scene(ViewerState& state, Scene scene, std::vector<PartStats> stats, std::string source,
                std::shared_ptr<const Image> image);
 

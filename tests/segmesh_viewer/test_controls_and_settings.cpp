@@ -101,12 +101,28 @@ TEST(MeshingSettings, PanelFieldsBecomeOptions) {
   s.smooth = SmoothMethod::hc;
   s.iterations = 2;
   s.labels = "2,1,7";  // as `--labels` takes them
+  s.surfaces = Surfaces::independent;
   const MeshingOptions o = meshing_options(s);
   EXPECT_EQ(o.method, Method::dual_contouring);
   EXPECT_EQ(o.normals, NormalMethod::sobel);
   EXPECT_EQ(o.smooth.method, SmoothMethod::hc);
   EXPECT_EQ(o.smooth.iterations, 2);
   EXPECT_EQ(o.labels, (std::vector<int32_t>{2, 1, 7}));
+  EXPECT_EQ(o.surfaces, Surfaces::independent);
+}
+
+TEST(MeshingSettings, SurfacesAreAutomaticUntilResolved) {
+  MeshingSettings s;
+  EXPECT_EQ(s.surfaces, Surfaces::automatic);
+  // The request keeps "automatic" (so surfaces_note can say why), the resolved options do not.
+  EXPECT_EQ(meshing_request(s).surfaces, Surfaces::automatic);
+  EXPECT_EQ(meshing_options(s).surfaces, Surfaces::conforming);
+  s.method = Method::dual_contouring;
+  EXPECT_EQ(meshing_options(s).surfaces, Surfaces::independent);
+  s.surfaces = Surfaces::conforming;  // the core refuses it with Dual Contouring
+  EXPECT_THROW(meshing_request(s), Error);
+  s.method = Method::marching_cubes;
+  EXPECT_EQ(meshing_request(s).surfaces, Surfaces::conforming);
 }
 
 TEST(MeshingSettings, LabelsAreReadAsTheCommandLineReadsThem) {
@@ -114,7 +130,7 @@ TEST(MeshingSettings, LabelsAreReadAsTheCommandLineReadsThem) {
   auto labels = [](std::string text) {
     MeshingSettings s;
     s.labels = std::move(text);
-    return meshing_options(s).labels;
+    return meshing_request(s).labels;
   };
   EXPECT_EQ(labels("-3"), (std::vector<int32_t>{-3}));
   EXPECT_EQ(labels("4,,5,"), (std::vector<int32_t>{4, 5}));

@@ -25,6 +25,22 @@ inline Image label_image(LabelVolume v, std::string path = "test.nii.gz") {
   return image;
 }
 
+// A label map of background only: `dims` voxels of `spacing` mm.
+inline LabelVolume blank_labels(std::array<int64_t, 3> dims, std::array<double, 3> spacing = {1, 1, 1}) {
+  LabelVolume v;
+  v.grid.dims = dims;
+  v.grid.spacing = spacing;
+  v.voxels.assign(v.grid.voxel_count(), 0);
+  return v;
+}
+
+// Sets the voxels lo <= (i, j, k) < hi to `label`: a box of voxels.
+inline void fill_box(LabelVolume& v, std::array<int64_t, 3> lo, std::array<int64_t, 3> hi, int32_t label) {
+  for (int64_t k = lo[2]; k < hi[2]; ++k)
+    for (int64_t j = lo[1]; j < hi[1]; ++j)
+      for (int64_t i = lo[0]; i < hi[0]; ++i) v.at(i, j, k) = label;
+}
+
 // A label map of random voxels: each filled with probability `density`, with a label drawn from
 // 1 .. labels; parts touch the volume's border.
 inline LabelVolume random_labels(std::array<int64_t, 3> dims, int labels, double density, unsigned seed) {
