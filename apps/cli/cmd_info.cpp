@@ -20,7 +20,7 @@ namespace {
 struct InfoArgs {
   std::string input;
   std::string label_names;
-  int connectivity = 26;
+  int connectivity = kDefaultConnectivity;
   bool json = false;
   ReadArgs read;
 };
@@ -34,9 +34,10 @@ struct LabelRow {
 };
 
 int run_info(const InfoArgs& args) {
-  if (args.connectivity != 6 && args.connectivity != 18 && args.connectivity != 26) {
-    throw Error("--connectivity must be 6, 18 or 26");
-  }
+  // Checked by the options layer, as `segmesh mesh` checks it.
+  MeshingOptions request;
+  request.connectivity = args.connectivity;
+  resolve_meshing_options(request);
   const Image image = read_input(args.input, args.read);
   std::vector<LabelInfo> names = image.labels;
   if (!args.label_names.empty()) {
@@ -134,7 +135,8 @@ Subcommand add_info_command(CLI::App& app) {
   cmd->add_option("input", args->input, "volume file or DICOM folder")->required();
   cmd->add_flag("--json", args->json, "print JSON");
   cmd->add_option("--label-names", args->label_names, "TSV file: label, name[, role]");
-  cmd->add_option("--connectivity", args->connectivity, "voxel connectivity: 6, 18 or 26")
+  cmd->add_option("--connectivity", args->connectivity,
+                  std::string(find_meshing_option("connectivity")->help))
       ->capture_default_str();
   add_read_options(cmd, args->read);
   return {cmd, [args] { return run_info(*args); }};

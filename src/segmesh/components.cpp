@@ -97,9 +97,7 @@ uint32_t find_root(std::vector<uint32_t>& parent, uint32_t v) {
 
 Components join(const std::vector<LabelRun>& runs, const std::vector<size_t>& row_first,
                 const std::array<int64_t, 3>& dims, int connectivity) {
-  if (connectivity != 6 && connectivity != 18 && connectivity != 26) {
-    throw std::invalid_argument("connected components: connectivity must be 6, 18 or 26");
-  }
+  require_connectivity(connectivity, "connected components");
   const int64_t ny = dims[1], nz = dims[2];
   std::vector<uint32_t> parent(runs.size());
   std::iota(parent.begin(), parent.end(), 0u);

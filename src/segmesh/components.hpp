@@ -16,6 +16,7 @@
 #include <span>
 #include <vector>
 
+#include "segmesh/connectivity.hpp"
 #include "segmesh/label_stats.hpp"
 #include "segmesh/progress.hpp"
 #include "segmesh/volume.hpp"
@@ -57,7 +58,7 @@ struct LabelRuns {
 };
 
 struct ComponentOptions {
-  int connectivity = 26;         // 6, 18 or 26
+  int connectivity = kDefaultConnectivity;  // 6, 18 or 26
   std::vector<int32_t> labels;   // labels to split; empty: every non-zero label
 };
 

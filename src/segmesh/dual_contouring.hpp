@@ -39,6 +39,7 @@
 #include <memory>
 
 #include "segmesh/components.hpp"
+#include "segmesh/connectivity.hpp"
 #include "segmesh/gradient.hpp"
 #include "segmesh/progress.hpp"
 #include "segmesh/tri_mesh.hpp"
@@ -50,11 +51,14 @@ namespace segmesh {
 // neighbouring cells never coincide (zero-area triangles).
 inline constexpr double kDcCellMargin = 0.05;
 
+// The relative singular value cut-off of the QEF solve (qef.hpp), `--dc-svd-eps`.
+inline constexpr double kDefaultDcSvdEps = 0.5;
+
 struct DcOptions {
   double iso = 0.5;
-  int connectivity = 26;                         // 6, 18 or 26: which sheets exist (see above)
+  int connectivity = kDefaultConnectivity;       // 6, 18 or 26: which sheets exist (see above)
   NormalMethod normals = NormalMethod::central;  // the Hermite normals
-  double svd_eps = 0.5;      // singular values below svd_eps * the largest are dropped
+  double svd_eps = kDefaultDcSvdEps;  // singular values below svd_eps * the largest are dropped
   double tolerance_mm = 0;   // > 0: adaptive simplification with this QEF error (RMS distance, mm)
   bool vertex_normals = true;  // false: no normals (smoothing recomputes them); kept when simplifying
 };

@@ -22,6 +22,7 @@
 #include <cstdint>
 
 #include "segmesh/components.hpp"
+#include "segmesh/connectivity.hpp"
 #include "segmesh/gradient.hpp"
 #include "segmesh/progress.hpp"
 #include "segmesh/tri_mesh.hpp"
@@ -30,7 +31,7 @@ namespace segmesh {
 
 struct McOptions {
   double iso = 0.5;                              // a label indicator (0/1) is contoured at 0.5
-  int connectivity = 26;                         // 6, 18 or 26: see marching_cubes_table.hpp
+  int connectivity = kDefaultConnectivity;  // 6, 18 or 26: see marching_cubes_table.hpp
   NormalMethod normals = NormalMethod::central;  // central differences or Sobel
   // False: no normals (TriMesh::normals left empty), for meshes whose normals are recomputed from
   // the triangles anyway (smoothing does); saves the gradient at both ends of every cut edge.

@@ -51,7 +51,11 @@ std::optional<NormalMethod> parse_normals(std::string_view name) {
 }
 
 SmoothOptions default_smoothing() {
-  return {.method = SmoothMethod::sinc, .iterations = 0, .pass_band = 0.01, .sinc_unit_gain = true};
+  SmoothOptions o;  // the pass band and the restored volume as SmoothOptions has them
+  o.method = SmoothMethod::sinc;
+  o.iterations = 0;
+  o.sinc_unit_gain = true;
+  return o;
 }
 
 namespace {
@@ -107,7 +111,7 @@ MeshingOptions resolve_meshing_options(MeshingOptions o) {
     fail("--labels and --iso exclude each other: --iso meshes a grey-value volume");
   }
   if (o.iso && !std::isfinite(*o.iso)) fail("--iso must be a finite number");
-  if (o.connectivity != 6 && o.connectivity != 18 && o.connectivity != 26) {
+  if (!is_connectivity(o.connectivity)) {
     fail("--connectivity must be 6, 18 or 26 (got " + std::to_string(o.connectivity) + ")");
   }
   if (o.min_voxels < 0) fail("--min-voxels must not be negative" + got(double(o.min_voxels)));

@@ -21,6 +21,8 @@
 #include <string_view>
 #include <vector>
 
+#include "segmesh/connectivity.hpp"
+#include "segmesh/dual_contouring.hpp"
 #include "segmesh/gradient.hpp"
 #include "segmesh/label_info.hpp"
 #include "segmesh/smoothing.hpp"
@@ -57,7 +59,7 @@ struct MeshingOptions {
   Surfaces surfaces = Surfaces::automatic;  // conforming: Marching Cubes on label maps only
   std::vector<int32_t> labels;  // labels to mesh; empty: every non-zero label
   std::optional<double> iso;    // mesh a grey-value volume at this value instead of labels
-  int connectivity = 26;        // voxel connectivity of parts: 6, 18 or 26
+  int connectivity = kDefaultConnectivity;  // voxel connectivity of parts: 6, 18 or 26
   int64_t min_voxels = 0;       // drop components with fewer voxels (0 keeps everything)
   NormalMethod normals = NormalMethod::central;
   std::vector<LabelInfo> label_names;  // --label-names: override the names the file carries
@@ -65,7 +67,7 @@ struct MeshingOptions {
   // applied to each part's field, so binary labels get sub-voxel shape at a cost in volume. Not
   // the mesh smoothing below, which moves the extracted vertices.
   double volume_sigma_mm = 0;
-  double dc_svd_eps = 0.5;     // Dual Contouring: relative singular value cut-off of the QEF
+  double dc_svd_eps = kDefaultDcSvdEps;     // Dual Contouring: relative singular value cut-off of the QEF
   double dc_tolerance_mm = 0;  // Dual Contouring: > 0 simplifies flat regions adaptively
   SmoothOptions smooth = default_smoothing();  // mesh smoothing after extraction, per part
   bool color_by_quality = false;  // per-vertex colours from the worst incident radii ratio

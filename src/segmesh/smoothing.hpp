@@ -91,6 +91,9 @@ enum class SmoothMethod { none, laplacian, hc, taubin, sinc };
 std::string_view smooth_method_name(SmoothMethod method);
 std::optional<SmoothMethod> parse_smooth_method(std::string_view name);
 
+// Windowed sinc's pass band unless told otherwise (see SmoothOptions::pass_band).
+inline constexpr double kDefaultPassBand = 0.01;
+
 struct SmoothOptions {
   SmoothMethod method = SmoothMethod::none;  // the pipeline picks its own default
   // 0: the method's own default (default_smooth_iterations): laplacian 2, hc 2, taubin 20 (= 40
@@ -105,7 +108,7 @@ struct SmoothOptions {
   double taubin_lambda = 0.5024, taubin_mu = -0.5289;
   // Windowed sinc pass band k_pb in (0, 2] (VTK's PassBand): 0.01 is 3D Slicer's default
   // (smoothing factor 0.5: 10^(-4 * 0.5)); smaller smooths more, 2 hardly at all.
-  double pass_band = 0.01;
+  double pass_band = kDefaultPassBand;
   // Windowed sinc: divide the coefficients by their sum so that f(0) = 1 exactly. The Hamming-
   // windowed series scales the mesh by f(0) about its box centre (1.0012 at Slicer's settings:
   // 0.24 mm at the ends of a 400 mm bone); with unit gain a constant passes unchanged. false

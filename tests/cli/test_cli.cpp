@@ -305,6 +305,19 @@ TEST(Cli, InfoReportsLabelsComponentsAndGrid) {
   EXPECT_NE(text.out.find("256 x 256 x 102"), std::string::npos) << text.out;
 }
 
+// `info` checks its connectivity as `mesh` does: the same one-line message, exit code 2.
+TEST(Cli, InfoRefusesAConnectivityAsMeshDoes) {
+  const fs::path phantom = small_phantom("cli_info_connectivity");
+  const auto info = run_segmesh("info " + q(phantom) + " --connectivity 7");
+  const auto mesh = run_segmesh("mesh " + q(phantom) + " -o " +
+                                q(fs::path(phantom).replace_extension(".glb")) +
+                                " --connectivity 7");
+  EXPECT_EQ(info.exit_code, 2);
+  EXPECT_NE(info.err.find("--connectivity must be 6, 18 or 26 (got 7)"), std::string::npos)
+      << info.err;
+  EXPECT_EQ(info.err, mesh.err);
+}
+
 // A small valid label map written as uncompressed NIfTI, for corrupting byte by byte.
 fs::path write_labels(const fs::path& dir, const std::string& name, bool foreground = true) {
   LabelVolume v;

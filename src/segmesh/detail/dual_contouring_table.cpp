@@ -205,9 +205,7 @@ DcCase build_case(int cs, int connectivity) {
 }  // namespace
 
 DcTable build_dc_table(int connectivity) {
-  if (connectivity != 6 && connectivity != 18 && connectivity != 26) {
-    throw std::invalid_argument("dual contouring: connectivity must be 6, 18 or 26");
-  }
+  require_connectivity(connectivity, "dual contouring");
   DcTable table;
   table.connectivity = connectivity;
   for (int cs = 0; cs < 256; ++cs) table.cases[cs] = build_case(cs, connectivity);
@@ -215,15 +213,9 @@ DcTable build_dc_table(int connectivity) {
 }
 
 const DcTable& dc_table(int connectivity) {
-  static const DcTable t6 = build_dc_table(6);
-  static const DcTable t18 = build_dc_table(18);
-  static const DcTable t26 = build_dc_table(26);
-  switch (connectivity) {
-    case 6: return t6;
-    case 18: return t18;
-    case 26: return t26;
-    default: throw std::invalid_argument("dual contouring: connectivity must be 6, 18 or 26");
-  }
+  require_connectivity(connectivity, "dual contouring");
+  static const DcTable tables[3] = {build_dc_table(6), build_dc_table(18), build_dc_table(26)};
+  return tables[connectivity_index(connectivity)];
 }
 
 }  // namespace segmesh

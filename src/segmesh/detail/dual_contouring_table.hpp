@@ -22,6 +22,8 @@
 #include <array>
 #include <cstdint>
 
+#include "segmesh/connectivity.hpp"
+
 namespace segmesh {
 
 inline constexpr int kDcMaxPieces = 8;
@@ -38,7 +40,7 @@ struct DcCase {
 };
 
 struct DcTable {
-  int connectivity = 26;
+  int connectivity = kDefaultConnectivity;
   std::array<DcCase, 256> cases;
 };
 

@@ -326,16 +326,12 @@ int mc_shared_face(int e0, int e1) {
 }
 
 McCaseTopology mc_case_topology(int cs, int connectivity) {
-  if (connectivity != 6 && connectivity != 18 && connectivity != 26) {
-    throw std::invalid_argument("marching cubes: connectivity must be 6, 18 or 26");
-  }
+  require_connectivity(connectivity, "marching cubes");
   return case_topology(cs, connectivity);
 }
 
 McTable build_mc_table(int connectivity) {
-  if (connectivity != 6 && connectivity != 18 && connectivity != 26) {
-    throw std::invalid_argument("marching cubes: connectivity must be 6, 18 or 26");
-  }
+  require_connectivity(connectivity, "marching cubes");
   McTable table;
   table.connectivity = connectivity;
   for (int cs = 0; cs < 256; ++cs) {
@@ -348,15 +344,9 @@ McTable build_mc_table(int connectivity) {
 }
 
 const McTable& mc_table(int connectivity) {
-  static const McTable t6 = build_mc_table(6);
-  static const McTable t18 = build_mc_table(18);
-  static const McTable t26 = build_mc_table(26);
-  switch (connectivity) {
-    case 6: return t6;
-    case 18: return t18;
-    case 26: return t26;
-    default: throw std::invalid_argument("marching cubes: connectivity must be 6, 18 or 26");
-  }
+  require_connectivity(connectivity, "marching cubes");
+  static const McTable tables[3] = {build_mc_table(6), build_mc_table(18), build_mc_table(26)};
+  return tables[connectivity_index(connectivity)];
 }
 
 }  // namespace segmesh

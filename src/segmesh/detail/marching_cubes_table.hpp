@@ -29,6 +29,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "segmesh/connectivity.hpp"
+
 namespace segmesh {
 
 // Corner c of a cell sits at offset (c & 1, (c >> 1) & 1, (c >> 2) & 1).
@@ -43,7 +45,7 @@ inline constexpr std::array<std::array<int, 2>, 12> kMcEdgeCorner{{
     {0, 4}, {1, 5}, {2, 6}, {3, 7}}};  // z edges
 
 struct McTable {
-  int connectivity = 26;
+  int connectivity = kDefaultConnectivity;
   // Triangles of case c are triangles[first[c]] .. triangles[first[c + 1] - 1]; the case index
   // has bit k set when corner k is inside.
   std::array<uint16_t, 257> first{};
