@@ -89,6 +89,7 @@ JointTopology joint_topology(const LabelledSurface& s) {
       }
     } else {
       out.smooth.role[v] = curve_degree[v] == 2 ? SmoothRole::kCurve : SmoothRole::kFixed;
+      out.smooth.pinned.push_back(static_cast<uint32_t>(v));
     }
   }
   return out;

@@ -4,8 +4,7 @@
 
 namespace segmesh {
 
-template <class Keep>
-void Smoother::add_umbrella_to(const F4* d, F4* acc, bool count, Keep&& keep) const {
+void Smoother::add_umbrella_to(const F4* d, F4* acc, bool count) const {
   const F4 one = count ? F4{0, 0, 0, 1} : F4{};
   t_.each_proper([&](uint32_t a, uint32_t b, uint32_t c) {
     const F4 oa = load3(o_[a]);
@@ -15,29 +14,41 @@ void Smoother::add_umbrella_to(const F4* d, F4* acc, bool count, Keep&& keep) co
       ac += d[c] - d[a];
     }
     const F4 bc = ac - ab;
-    if (keep(a)) acc[a] += ab + ac + one;
-    if (keep(b)) acc[b] += bc - ab + one;
-    if (keep(c)) acc[c] += one - ac - bc;
+    acc[a] += ab + ac + one;
+    acc[b] += bc - ab + one;
+    acc[c] += one - ac - bc;
   });
 }
 
-template <class Keep>
-void Smoother::add_neighbours_to(const F4* x, F4* acc, Keep&& keep) const {
+void Smoother::add_neighbours_to(const F4* x, F4* acc) const {
   t_.each_proper([&](uint32_t a, uint32_t b, uint32_t c) {
     const F4 xa = x[a], xb = x[b], xc = x[c];
-    if (keep(a)) acc[a] += xb + xc;
-    if (keep(b)) acc[b] += xa + xc;
-    if (keep(c)) acc[c] += xa + xb;
+    acc[a] += xb + xc;
+    acc[b] += xa + xc;
+    acc[c] += xa + xb;
   });
+}
+
+void Smoother::save_pinned(const F4* acc) const {
+  const std::vector<uint32_t>& pinned = topology_->pinned;
+  saved_.resize(pinned.size());
+  for (size_t i = 0; i < pinned.size(); ++i) saved_[i] = acc[pinned[i]];
+}
+
+void Smoother::restore_pinned(F4* acc) const {
+  const std::vector<uint32_t>& pinned = topology_->pinned;
+  for (size_t i = 0; i < pinned.size(); ++i) acc[pinned[i]] = saved_[i];
 }
 
 void Smoother::add_umbrella(const F4* d, F4* acc, bool count) const {
   if (!topology_) {
-    add_umbrella_to(d, acc, count, [](uint32_t) { return true; });
+    add_umbrella_to(d, acc, count);
     return;
   }
   const SmoothRole* role = topology_->role.data();
-  add_umbrella_to(d, acc, count, [&](uint32_t v) { return role[v] == SmoothRole::kSheet; });
+  save_pinned(acc);
+  add_umbrella_to(d, acc, count);
+  restore_pinned(acc);
   // A curve edge as one triangle at each curve end: its neighbour twice, one count.
   const F4 one = count ? F4{0, 0, 0, 1} : F4{};
   for (const auto& [a, b] : topology_->curve_edges) {
@@ -50,11 +61,13 @@ void Smoother::add_umbrella(const F4* d, F4* acc, bool count) const {
 
 void Smoother::add_neighbours(const F4* x, F4* acc) const {
   if (!topology_) {
-    add_neighbours_to(x, acc, [](uint32_t) { return true; });
+    add_neighbours_to(x, acc);
     return;
   }
   const SmoothRole* role = topology_->role.data();
-  add_neighbours_to(x, acc, [&](uint32_t v) { return role[v] == SmoothRole::kSheet; });
+  save_pinned(acc);
+  add_neighbours_to(x, acc);
+  restore_pinned(acc);
   for (const auto& [a, b] : topology_->curve_edges) {
     if (role[a] == SmoothRole::kCurve) acc[a] += x[b] + x[b];
     if (role[b] == SmoothRole::kCurve) acc[b] += x[a] + x[a];

@@ -30,11 +30,14 @@ namespace segmesh {
 // neighbours a vertex averages, nothing else: a sheet vertex (kSheet) averages over its
 // triangles as above, a vertex on a junction curve (kCurve) over its two neighbours along the
 // curve only, each curve edge counting as one triangle (its neighbour twice), and a fixed vertex
-// (kFixed: where curves meet or end) has no neighbours, so it stays where it is.
+// (kFixed: where curves meet or end) has no neighbours, so it stays where it is. The sweeps add
+// every triangle's terms to all its corners, as on a single mesh, and put the few pinned
+// (curve and fixed) vertices' accumulators back afterwards: no per-corner test in the sweep.
 enum class SmoothRole : uint8_t { kSheet, kCurve, kFixed };
 struct SmoothTopology {
   std::vector<SmoothRole> role;                     // per vertex
   std::vector<std::array<uint32_t, 2>> curve_edges;  // the edges of the junction curves
+  std::vector<uint32_t> pinned;                     // the vertices that are not kSheet
 };
 
 class Smoother {
@@ -79,17 +82,19 @@ class Smoother {
   // acc_i += S(x)_i = 2 c_i avg_j x_j.
   void add_neighbours(const F4* x, F4* acc) const;
 
-  // The triangles' terms added to the corners that pass keep(corner).
-  template <class Keep>
-  void add_umbrella_to(const F4* d, F4* acc, bool count, Keep&& keep) const;
-  template <class Keep>
-  void add_neighbours_to(const F4* x, F4* acc, Keep&& keep) const;
+  // The triangles' terms added to all their corners.
+  void add_umbrella_to(const F4* d, F4* acc, bool count) const;
+  void add_neighbours_to(const F4* x, F4* acc) const;
+  // With a topology: the pinned vertices' accumulators before a sweep, and put back after it.
+  void save_pinned(const F4* acc) const;
+  void restore_pinned(F4* acc) const;
 
   const Triangles& t_;
   const Vec3f* o_;
   size_t n_;
   Ticker& ticker_;
   const SmoothTopology* topology_;  // nullptr: every vertex averages over its triangles
+  mutable std::vector<F4> saved_;   // save_pinned's copy
 };
 
 // A filter run on one mesh: the displacements it leaves and where the triangle counts are.
