@@ -192,8 +192,12 @@ PipelineParts find_parts(const Image& image, const MeshingOptions& options, Prog
   return parts;
 }
 
-Scene extract_parts(const Image& image, const PipelineParts& parts, const MeshingOptions& options,
-                    Progress& progress, int64_t* presmooth_fallbacks) {
+namespace {
+
+// extract_parts, with the choice to leave a shared surface's shells uncut (parts' meshes empty)
+// for a caller that smooths the surface next and cuts them then.
+Scene extract_scene(const Image& image, const PipelineParts& parts, const MeshingOptions& options,
+                    Progress& progress, int64_t* presmooth_fallbacks, bool cut_shells) {
   const MeshingOptions o = resolve_meshing_options(options);
   const bool grey = o.iso.has_value();
   progress.step(o.method == Method::dual_contouring ? "dual contouring" : "marching cubes");
@@ -209,7 +213,7 @@ Scene extract_parts(const Image& image, const PipelineParts& parts, const Meshin
     }
     scene.surface = multi_label_marching_cubes(image.grid(), components, parts.kept,
                                                o.connectivity, progress);
-    set_part_shells(scene);
+    if (cut_shells) set_part_shells(scene);
     return scene;
   }
   // Each part's share of the step is its voxel count.
@@ -234,6 +238,13 @@ Scene extract_parts(const Image& image, const PipelineParts& parts, const Meshin
   return scene;
 }
 
+}  // namespace
+
+Scene extract_parts(const Image& image, const PipelineParts& parts, const MeshingOptions& options,
+                    Progress& progress, int64_t* presmooth_fallbacks) {
+  return extract_scene(image, parts, options, progress, presmooth_fallbacks, true);
+}
+
 namespace {
 
 // The pipeline. With `release`, the volume's voxels are freed as soon as extraction is done, so
@@ -250,11 +261,18 @@ Scene run_pipeline(const Image& image, const MeshingOptions& options, Progress& 
   t.components_ms = ms_since(start);
 
   start = Clock::now();
-  Scene scene = extract_parts(image, parts, o, progress, &t.presmooth_fallbacks);
+  // A shared surface that smoothing changes gets its shells (and their normals) cut once, after.
+  const bool smoothed = o.smooth.method != SmoothMethod::none;
+  Scene scene = extract_scene(image, parts, o, progress, &t.presmooth_fallbacks, !smoothed);
   if (extracted) {
     extracted->parts.resize(scene.parts.size());
-    tbb::parallel_for(size_t{0}, scene.parts.size(),
-                      [&](size_t p) { extracted->parts[p] = scene.parts[p].mesh.positions; });
+    if (scene.surface && smoothed) {
+      std::vector<TriMesh> shells = part_shells(*scene.surface);
+      for (size_t p = 0; p < shells.size(); ++p) extracted->parts[p] = std::move(shells[p].positions);
+    } else {
+      tbb::parallel_for(size_t{0}, scene.parts.size(),
+                        [&](size_t p) { extracted->parts[p] = scene.parts[p].mesh.positions; });
+    }
   }
   if (release) {
     // Swapped with an empty vector, so the memory goes (`voxels = {}` would only clear it).
