@@ -2,7 +2,7 @@
 """Conforming surfaces against independent ones and against VTK, on the same label maps.
 
 For every label map this runs three pipelines and scores them with the same code:
-  segmesh conforming    `segmesh mesh MAP -o DIR/ --format ply` (the default: --surfaces conforming)
+  segmesh conforming    `segmesh mesh MAP -o DIR/ --format ply` (the default, no --surfaces)
   segmesh independent   the same with --surfaces independent
   VTK                   3D Slicer's closed-surface conversion as ../shared/tools/peer_mesh.py runs
                         it: every label cropped to its box plus one voxel, vtkDiscreteFlyingEdges3D,
@@ -13,7 +13,8 @@ and prints one markdown table. Definitions (the same for all three):
   time          segmesh: wall time of the whole command (read, parts, extract, smooth, write PLY
                 files), best of --repeats. VTK: the two filters' Update() summed over the labels,
                 best of --repeats; loading, cropping and writing are not timed, which favours VTK.
-                Both at --threads threads (vtkSMPTools.Initialize for VTK).
+                Both at --threads threads (vtkSMPTools.Initialize for VTK). The three tools run in
+                turn, --repeats rounds, so a change of the host's load reaches all three.
   closed        every part (segmesh: each connected part's file; VTK: each label's mesh) has no
                 boundary edge, no edge with more than two triangles, no pinched vertex and a
                 consistent winding (../shared/tools/mesh_metrics.py).
@@ -65,6 +66,7 @@ import mesh_metrics  # noqa: E402
 import peer_mesh  # noqa: E402
 
 LPS_FROM_RAS = np.array([-1.0, -1.0, 1.0])
+VTK = "VTK discrete FE + sinc"
 
 
 # ----------------------------------------------------------------------------
@@ -106,55 +108,80 @@ def merge(meshes):
     return np.concatenate(vs), np.concatenate(fs)
 
 
-def segmesh_pipeline(segmesh, path, out, surfaces, threads, repeats):
-    extra = ["--surfaces", surfaces]
-    wall = min(segmesh_run(segmesh, path, out + "/smooth", extra, threads) for _ in range(repeats))
+def segmesh_meshes(segmesh, path, out, extra, threads):
+    """The smoothed parts in out/smooth (left by the timed runs) and, for the vertex
+    correspondence, the same command with --smooth none, merged per label."""
     segmesh_run(segmesh, path, out + "/raw", extra + ["--smooth", "none"], threads)
     smooth, raw = segmesh_parts(out + "/smooth"), segmesh_parts(out + "/raw")
     if smooth.keys() != raw.keys() or any(not np.array_equal(smooth[k][1], raw[k][1]) for k in smooth):
-        sys.exit("segmesh %s: the unsmoothed run gave other triangles; no vertex correspondence"
-                 % surfaces)
+        sys.exit("%s: the unsmoothed run gave other triangles; no vertex correspondence" % out)
     meshes = {}
     for label in sorted({k[0] for k in smooth}):
         keys = [k for k in smooth if k[0] == label]
         meshes[label] = {"raw": merge([raw[k] for k in keys]),
                          "smooth": merge([smooth[k] for k in keys])}
-    return wall, meshes, [mesh_metrics.compute_metrics(*m) for m in smooth.values()]
+    return meshes, [mesh_metrics.compute_metrics(*m) for m in smooth.values()]
 
 
-def vtk_pipeline(path, threads, repeats):
+class VtkPipeline:
     """Slicer's conversion per label with peer_mesh.py's functions and default settings."""
-    data, spacing, affine = peer_mesh.load_volume(path)
-    data = data.astype(np.int32)
-    options = peer_mesh.parse_args([path])  # Slicer's defaults: pass band 0.01, 20 iterations
-    values = [int(v) for v in np.unique(data) if v != 0]
-    images = {}
-    for value, (lo, hi) in peer_mesh.label_boxes(data, values).items():  # untimed, as peer_mesh.py
-        sub = peer_mesh.crop_pad(data, lo, hi, True, 0)
-        images[value] = peer_mesh.to_vtk_image(sub, spacing, (lo - 1) * np.asarray(spacing))
-    vtk.vtkSMPTools.Initialize(threads)
-    best = float("inf")
-    for _ in range(repeats):
-        surfaces, wall = {}, 0.0
-        for value, image in images.items():
+
+    def __init__(self, path):
+        data, self.spacing, self.affine = peer_mesh.load_volume(path)
+        data = data.astype(np.int32)
+        self.options = peer_mesh.parse_args([path])  # Slicer's: pass band 0.01, 20 iterations
+        values = [int(v) for v in np.unique(data) if v != 0]
+        self.images = {}
+        for value, (lo, hi) in peer_mesh.label_boxes(data, values).items():  # untimed, as peer_mesh.py
+            sub = peer_mesh.crop_pad(data, lo, hi, True, 0)
+            self.images[value] = peer_mesh.to_vtk_image(sub, self.spacing,
+                                                        (lo - 1) * np.asarray(self.spacing))
+
+    def run(self):
+        """One timed run of the two filters over every label: the wall time summed."""
+        self.surfaces, wall = {}, 0.0
+        for value, image in self.images.items():
             start = time.perf_counter()
             extract = peer_mesh.build_extractor("discrete_fe", image, None, value, None)
             extract.Update()
-            smooth = peer_mesh.build_smoother("sinc", extract.GetOutput(), options)
+            smooth = peer_mesh.build_smoother("sinc", extract.GetOutput(), self.options)
             smooth.Update()
             wall += time.perf_counter() - start
-            surfaces[value] = (extract.GetOutput(), smooth.GetOutput())
-        best = min(best, wall)
-    meshes = {}
-    for value, (raw_pd, smooth_pd) in surfaces.items():
-        mesh = {}
-        for key, pd in (("raw", raw_pd), ("smooth", smooth_pd)):
-            v, f = peer_mesh.to_world(*peer_mesh.polydata_to_numpy(pd), spacing, affine)
-            mesh[key] = (v * LPS_FROM_RAS, f)
-        if not np.array_equal(mesh["raw"][1], mesh["smooth"][1]):
-            sys.exit("VTK label %d: the smoother changed the triangles" % value)
-        meshes[value] = mesh
-    return best, meshes, [mesh_metrics.compute_metrics(*m["smooth"]) for m in meshes.values()]
+            self.surfaces[value] = (extract.GetOutput(), smooth.GetOutput())
+        return wall
+
+    def meshes(self):
+        """The last run's surfaces in LPS mm, and the metrics of each label's smoothed mesh."""
+        meshes = {}
+        for value, (raw_pd, smooth_pd) in self.surfaces.items():
+            mesh = {}
+            for key, pd in (("raw", raw_pd), ("smooth", smooth_pd)):
+                v, f = peer_mesh.to_world(*peer_mesh.polydata_to_numpy(pd), self.spacing, self.affine)
+                mesh[key] = (v * LPS_FROM_RAS, f)
+            if not np.array_equal(mesh["raw"][1], mesh["smooth"][1]):
+                sys.exit("VTK label %d: the smoother changed the triangles" % value)
+            meshes[value] = mesh
+        return meshes, [mesh_metrics.compute_metrics(*m["smooth"]) for m in meshes.values()]
+
+
+def run_tools(segmesh, path, out, threads, repeats):
+    """{tool: (best wall time, meshes per label, metrics per part)}. The three tools run in
+    turn, `repeats` rounds, so that a change of the host's load hits all of them."""
+    commands = {"segmesh conforming (default)": ("conforming", []),
+                "segmesh independent": ("independent", ["--surfaces", "independent"])}
+    vtk_run = VtkPipeline(path)
+    vtk.vtkSMPTools.Initialize(threads)
+    walls = {tool: float("inf") for tool in list(commands) + [VTK]}
+    for _ in range(repeats):
+        for tool, (folder, extra) in commands.items():
+            walls[tool] = min(walls[tool], segmesh_run(segmesh, path, "%s/%s/smooth" % (out, folder),
+                                                       extra, threads))
+        walls[VTK] = min(walls[VTK], vtk_run.run())
+    runs = {tool: (walls[tool],) + segmesh_meshes(segmesh, path, "%s/%s" % (out, folder), extra,
+                                                  threads)
+            for tool, (folder, extra) in commands.items()}
+    runs[VTK] = (walls[VTK],) + vtk_run.meshes()
+    return runs
 
 
 # ----------------------------------------------------------------------------
@@ -382,14 +409,10 @@ def main(argv):
             name, " x ".join(map(str, labels.shape)), " x ".join("%.3g" % s for s in spacing),
             len(np.unique(labels)) - 1, len(pairs)))
         out = os.path.join(args.out, name.split(".")[0])
-        runs = {"segmesh conforming (default)": segmesh_pipeline(
-                    args.segmesh, path, out + "/conforming", "conforming", args.threads, args.repeats),
-                "segmesh independent": segmesh_pipeline(
-                    args.segmesh, path, out + "/independent", "independent", args.threads, args.repeats),
-                "VTK discrete FE + sinc": vtk_pipeline(path, args.threads, args.repeats)}
-        checks.append(frame_check(name, runs["VTK discrete FE + sinc"][1],
+        runs = run_tools(args.segmesh, path, out, args.threads, args.repeats)
+        checks.append(frame_check(name, runs[VTK][1],
                                   runs["segmesh independent"][1]))
-        vtk_wall = runs["VTK discrete FE + sinc"][0]
+        vtk_wall = runs[VTK][0]
         for tool, (wall, meshes, part_metrics) in runs.items():
             closed = sum(is_closed(m) for m in part_metrics)
             errors, together = volume_errors(meshes, labels, float(np.prod(spacing)))
