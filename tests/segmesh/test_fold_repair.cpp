@@ -58,6 +58,24 @@ TEST(FoldRepair, MovesTheCrossingPairBackUntilItNoLongerCrosses) {
   EXPECT_FLOAT_EQ(f.mesh.positions[6].z, 5.0f);
 }
 
+// A fan folded over itself: two triangles on one junction corner, the second's far edge pushed
+// through the first. Sharing a corner does not make a pair safe.
+TEST(FoldRepair, FindsAFanFoldedOverItsCorner) {
+  TriMesh mesh;
+  mesh.positions = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0.5, 0.5, -1}, {0.5, 0.5, 1}};
+  mesh.indices = {0, 1, 2, 0, 3, 4};
+  std::vector<Vec3f> extracted = mesh.positions;
+  extracted[3] = {0.5, 0.5, 0.5};  // the far edge stood above the first triangle
+  std::vector<SmoothRole> role(5, SmoothRole::kSheet);
+  role[0] = SmoothRole::kFixed;
+  ASSERT_TRUE(segment_crosses_triangle(to_double(mesh.positions[3]), to_double(mesh.positions[4]),
+                                       {0, 0, 0}, {2, 0, 0}, {0, 2, 0}));
+  EXPECT_EQ(repair_folds(mesh, extracted, role), 5u);
+  EXPECT_FALSE(segment_crosses_triangle(to_double(mesh.positions[3]), to_double(mesh.positions[4]),
+                                        to_double(mesh.positions[0]), to_double(mesh.positions[1]),
+                                        to_double(mesh.positions[2])));
+}
+
 TEST(FoldRepair, LeavesASurfaceWithoutCrossingsAsItIs) {
   Fold f = folded_pair();
   f.mesh.positions[3] = {0.4, 0.4, 0.25};

@@ -18,6 +18,7 @@
 #include "segmesh/pipeline.hpp"
 #include "segmesh/quality.hpp"
 #include "segmesh/scene_measures.hpp"
+#include "support/mesh_crossings.hpp"
 #include "support/test_fields.hpp"
 
 namespace segmesh {
@@ -54,45 +55,6 @@ std::vector<Vec3d> contact_vertices(const LabelledSurface& s) {
   for (size_t v = 0; v < on.size(); ++v)
     if (on[v]) out.push_back(to_double(s.mesh.positions[v]));
   return out;
-}
-
-// How many edges of one mesh cross a triangle of the other, both ways (candidates from a grid of
-// 1 mm cells over the second mesh's triangle boxes; a pair met in several cells counts once per
-// cell, which keeps zero zero).
-size_t crossings(const TriMesh& m1, const TriMesh& m2) {
-  auto corner = [](const TriMesh& m, size_t t, int k) {
-    return to_double(m.positions[m.indices[3 * t + size_t(k)]]);
-  };
-  auto cells = [&](const TriMesh& m, size_t t, auto&& visit) {
-    Vec3d lo = corner(m, t, 0), hi = lo;
-    for (int k = 1; k < 3; ++k) {
-      const Vec3d v = corner(m, t, k);
-      lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
-      hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
-    }
-    for (int64_t z = int64_t(std::floor(lo.z)); z <= int64_t(std::floor(hi.z)); ++z)
-      for (int64_t y = int64_t(std::floor(lo.y)); y <= int64_t(std::floor(hi.y)); ++y)
-        for (int64_t x = int64_t(std::floor(lo.x)); x <= int64_t(std::floor(hi.x)); ++x)
-          visit(((z + 4096) << 26) ^ ((y + 4096) << 13) ^ (x + 4096));
-  };
-  size_t count = 0;
-  auto one_way = [&](const TriMesh& e, const TriMesh& f) {
-    std::unordered_map<int64_t, std::vector<uint32_t>> grid;
-    for (size_t t = 0; t < f.triangle_count(); ++t)
-      cells(f, t, [&](int64_t key) { grid[key].push_back(uint32_t(t)); });
-    for (size_t s = 0; s < e.triangle_count(); ++s)
-      cells(e, s, [&](int64_t key) {
-        const auto it = grid.find(key);
-        if (it == grid.end()) return;
-        for (uint32_t t : it->second)
-          for (int k = 0; k < 3; ++k)
-            count += segment_crosses_triangle(corner(e, s, k), corner(e, s, (k + 1) % 3),
-                                              corner(f, t, 0), corner(f, t, 1), corner(f, t, 2));
-      });
-  };
-  one_way(m1, m2);
-  one_way(m2, m1);
-  return count;
 }
 
 void expect_sound_shells(const Scene& scene) {
@@ -180,9 +142,9 @@ TEST(JointSmoothing, ThePhantomKeepsItsContactsAndVolumes) {
   for (const ContactMeasures& c : m.contacts) {
     const Part& a = conforming.parts[c.a];
     const Part& b = conforming.parts[c.b];
-    EXPECT_EQ(crossings(a.mesh, b.mesh), 0u) << a.name << " " << b.name;
+    EXPECT_EQ(test::crossings(a.mesh, b.mesh), 0u) << a.name << " " << b.name;
     if (b.label == 2 && b.component == 1) {  // the plate: the independent surfaces do cross
-      EXPECT_GT(crossings(independent.parts[c.a].mesh, independent.parts[c.b].mesh), 1000u)
+      EXPECT_GT(test::crossings(independent.parts[c.a].mesh, independent.parts[c.b].mesh), 1000u)
           << a.name << " " << b.name;
     }
   }
@@ -197,12 +159,12 @@ TEST(JointSmoothing, TouchingPartsNeitherCrossNorShareNormals) {
   o.surfaces = Surfaces::conforming;
   const Scene scene = build_scene(image, o);
   ASSERT_EQ(scene.parts.size(), 2u);
-  EXPECT_EQ(crossings(scene.parts[0].mesh, scene.parts[1].mesh), 0u);
+  EXPECT_EQ(test::crossings(scene.parts[0].mesh, scene.parts[1].mesh), 0u);
   // The independent surfaces of the same map do cross (smoothing moved the sides apart and into
   // each other): the check can fail.
   o.surfaces = Surfaces::independent;
   const Scene apart = build_scene(image, o);
-  EXPECT_GT(crossings(apart.parts[0].mesh, apart.parts[1].mesh), 0u);
+  EXPECT_GT(test::crossings(apart.parts[0].mesh, apart.parts[1].mesh), 0u);
 
   // Normals at the vertices both shells have, by position (the contact's vertices).
   std::map<std::array<float, 3>, Vec3f> block_normal;
