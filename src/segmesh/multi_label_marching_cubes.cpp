@@ -202,8 +202,8 @@ class Extractor {
  public:
   Extractor(const MaterialRows& rows, int connectivity, Progress& progress)
       : rows_(rows), table_(mc_table(connectivity)), joined_by_winner_(connectivity != 6),
-        progress_(progress), flip_(rows.grid().mirrored()), nx_(rows.dims()[0]),
-        ny_(rows.dims()[1]), nz_(rows.dims()[2]) {}
+        progress_(progress), flip_(rows.grid().mirrored()), ny_(rows.dims()[1]),
+        nz_(rows.dims()[2]) {}
 
   LabelledSurface run() {
     LabelledSurface out;
@@ -233,7 +233,7 @@ class Extractor {
     if (axis == 0) {
       if (a.empty()) return;
       uint32_t last = 0;
-      MaterialRows::segments<1>(nx_, {a}, [&](int64_t s, int64_t, const auto& m) {
+      rows_.segments<1>({a}, [&](int64_t s, int64_t, const auto& m) {
         if (s > 0 && m[0] != last) visit(s - 1);
         last = m[0];
       });
@@ -241,7 +241,7 @@ class Extractor {
     }
     const auto b = axis == 1 ? row(j + 1, k) : row(j, k + 1);
     if (a.empty() && b.empty()) return;
-    MaterialRows::segments<2>(nx_, {a, b}, [&](int64_t s, int64_t t, const auto& m) {
+    rows_.segments<2>({a, b}, [&](int64_t s, int64_t t, const auto& m) {
       if (m[0] != m[1])
         for (int64_t i = s; i < t; ++i) visit(i);
     });
@@ -265,7 +265,7 @@ class Extractor {
       }
       visit(i, m);
     };
-    MaterialRows::segments<4>(nx_, r, [&](int64_t s, int64_t, const std::array<uint32_t, 4>& next) {
+    rows_.segments<4>(r, [&](int64_t s, int64_t, const std::array<uint32_t, 4>& next) {
       if (first >= 0) {
         const bool uniform = face[0] == face[1] && face[1] == face[2] && face[2] == face[3];
         if (!uniform)
@@ -440,7 +440,7 @@ class Extractor {
   const bool joined_by_winner_;
   Progress& progress_;
   const bool flip_;
-  const int64_t nx_, ny_, nz_;
+  const int64_t ny_, nz_;
   std::vector<RowCount> counts_;
   std::vector<uint32_t> vertex_first_, triangle_first_;
 };

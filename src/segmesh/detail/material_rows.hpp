@@ -3,9 +3,9 @@
 // for the multi-label extractor (multi_label_marching_cubes.hpp).
 //
 // What a row of cells needs from its four rows of voxels is where their materials change along
-// x; merging the four run lists gives it in one visit of each run end, so the interior of a large
-// bone costs nothing and no volume of materials is ever allocated (a uint16 material per voxel
-// would double the memory of a uint8 label map).
+// x; merging the four run lists (run_merge.hpp) gives it in one visit of each run end, so the
+// interior of a large bone costs nothing and no volume of materials is ever allocated (a uint16
+// material per voxel would double the memory of a uint8 label map).
 //
 // The domain is the parts' common bounding box grown by one grid point on every side (the margin
 // that closes every surface), in local indices 0 .. dims - 1; grid() places it in the world.
@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "segmesh/components.hpp"
+#include "segmesh/detail/run_merge.hpp"
 #include "segmesh/grid.hpp"
 
 namespace segmesh {
@@ -45,36 +46,12 @@ class MaterialRows {
   }
 
   // Calls visit(s, t, materials) for consecutive intervals [s, t) covering [0, dims[0]) on which
-  // the materials of the N rows are constant; materials[n] is row n's.
+  // the materials of the N rows are constant; materials[n] is row n's (run_merge.hpp).
   template <size_t N, class Visit>
-  static void segments(int64_t nx, const std::array<std::span<const MaterialRun>, N>& rows,
-                       Visit&& visit) {
-    std::array<size_t, N> at{};
-    std::array<uint32_t, N> material{};
-    std::array<int64_t, N> next{};  // where row n's material changes next
-    for (size_t n = 0; n < N; ++n) next[n] = rows[n].empty() ? nx : rows[n][0].x_begin;
-    int64_t s = 0;
-    while (s < nx) {
-      int64_t t = nx;
-      for (size_t n = 0; n < N; ++n) t = next[n] < t ? next[n] : t;
-      if (t > s) visit(s, t, material);
-      if (t >= nx) break;
-      for (size_t n = 0; n < N; ++n) {
-        if (next[n] != t) continue;
-        const auto& runs = rows[n];
-        if (material[n] != 0 && runs[at[n]].x_end == t) {  // the run ends at t
-          ++at[n];
-          material[n] = 0;
-        }
-        if (at[n] < runs.size() && runs[at[n]].x_begin == t) {  // a run begins at t
-          material[n] = runs[at[n]].material;
-          next[n] = runs[at[n]].x_end;
-        } else {
-          next[n] = at[n] < runs.size() ? runs[at[n]].x_begin : nx;
-        }
-      }
-      s = t;
-    }
+  void segments(const std::array<std::span<const MaterialRun>, N>& rows, Visit&& visit) const {
+    merge_runs<RunValues<N, &MaterialRun::material>>(
+        dims_[0], 0, rows,
+        [&](int64_t s, int64_t t, const auto& state) { visit(s, t, state.value); });
   }
 
  private:

@@ -8,9 +8,10 @@
 //     symmetric difference of two run lists;
 //   - the non-trivial cells between four rows are where their column pattern changes along x, or
 //     where it is mixed (some rows inside, some outside).
-// Merging the run lists visits each run end once, so the cost of a row is its number of run ends
-// (plus, for the cells and edges themselves, the size of the output), never its length: the
-// interior of a large bone costs nothing, and there is no pass over the volume per part.
+// Merging the run lists (run_merge.hpp) visits each run end once, so the cost of a row is its
+// number of run ends (plus, for the cells and edges themselves, the size of the output), never its
+// length: the interior of a large bone costs nothing, and there is no pass over the volume per
+// part.
 //
 // The scan's domain is the component's bounding box grown by one grid point on every side (the
 // margin that closes the surface), in local indices 0 .. dims - 1; grid() places it in the world.
@@ -22,6 +23,7 @@
 #include <vector>
 
 #include "segmesh/components.hpp"
+#include "segmesh/detail/run_merge.hpp"
 #include "segmesh/grid.hpp"
 
 namespace segmesh {
@@ -45,33 +47,12 @@ class RunScan {
   int64_t end_of(const VoxelRun& r) const { return r.x_end - x0_; }
 
   // Calls visit(s, t, state) for consecutive intervals [s, t) covering [0, dims[0]) on which the
-  // inside/outside state of the N rows is constant; bit n of state is row n's.
+  // inside/outside state of the N rows is constant; bit n of state is row n's (run_merge.hpp).
   template <size_t N, class Visit>
   void segments(const std::array<std::span<const VoxelRun>, N>& rows, Visit&& visit) const {
-    const int64_t nx = dims_[0];
-    std::array<size_t, N> at{};
-    std::array<int64_t, N> next{};
-    unsigned state = 0;
-    for (size_t n = 0; n < N; ++n) next[n] = rows[n].empty() ? nx : begin_of(rows[n][0]);
-    int64_t s = 0;
-    while (s < nx) {
-      int64_t t = nx;
-      for (size_t n = 0; n < N; ++n) t = next[n] < t ? next[n] : t;
-      if (t > s) visit(s, t, state);
-      if (t >= nx) break;
-      for (size_t n = 0; n < N; ++n) {
-        if (next[n] != t) continue;
-        if (state >> n & 1u) {  // the run ends at t
-          state &= ~(1u << n);
-          ++at[n];
-          next[n] = at[n] < rows[n].size() ? begin_of(rows[n][at[n]]) : nx;
-        } else {  // a run begins at t
-          state |= 1u << n;
-          next[n] = end_of(rows[n][at[n]]);
-        }
-      }
-      s = t;
-    }
+    merge_runs<RowBits>(dims_[0], x0_, rows, [&](int64_t s, int64_t t, const RowBits& state) {
+      visit(s, t, state.bits);
+    });
   }
 
   // Calls visit(i) for every cut edge along `axis` starting at grid point (i, j, k), i ascending.
