@@ -1,11 +1,7 @@
 #include "segmesh/marching_cubes.hpp"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -15,6 +11,7 @@
 #include "segmesh/error.hpp"
 #include "segmesh/first_touch.hpp"
 #include "segmesh/detail/marching_cubes_table.hpp"
+#include "segmesh/detail/row_passes.hpp"
 #include "segmesh/detail/row_trim.hpp"
 #include "segmesh/detail/run_scan.hpp"
 
@@ -33,112 +30,57 @@ constexpr std::array<uint16_t, 256> kCutEdges = [] {
   return m;
 }();
 
-// What one row contributes: its cut edges per axis (starting at its grid points) and the triangles
-// of the cells between it and the rows at y + 1, z + 1. 32-bit, as the ids they count
-// (mesh_id_count): 16 bytes a row.
-struct RowCount {
-  uint32_t edges[3] = {0, 0, 0};
-  uint32_t triangles = 0;
-};
-
 // Marching Cubes over any scan that answers per row (row_trim.hpp's TrimmedScan over a field,
 // run_scan.hpp's RunScan over a component's runs): row_edges / row_edge_count, cells / cell_sum.
 // `Vertices` places the vertices of one row's cut edges of one axis: emit_row(axis, j, k, id,
 // mesh) writes them from id on, in row_edges order.
 //
-// Vertex ids follow the rows (row index k * ny + j), and within a row its x-edges, then its
-// y-edges, then its z-edges, each i ascending; triangles follow the cell rows. A counting pass
-// sizes every row, prefix sums give each row its output ranges, and a filling pass writes them:
-// rows are independent, so both passes are parallel over rows and the output is the same for any
-// thread count. A cell finds the ids of its cut edges with one cursor per (row, axis) it touches,
-// advanced as the cells of the row are visited in x order (every cut edge of those rows is an
-// edge of a visited cell), so no plane of edge ids is ever stored.
+// The passes over rows and the ids are row_passes.hpp's: a row's vertices are its x-edges, then
+// its y-edges, then its z-edges, each i ascending, and its triangles are those of the cells
+// between it and the rows at y + 1, z + 1.
 template <class Scan, class Vertices>
 class Extractor {
  public:
   Extractor(const Scan& scan, const std::array<int64_t, 3>& dims, bool mirrored, int connectivity,
             const Vertices& vertices, Progress& progress)
       : scan_(scan), vertices_(vertices), table_(mc_table(connectivity)), progress_(progress),
-        flip_(mirrored), nx_(dims[0]), ny_(dims[1]), nz_(dims[2]) {}
+        flip_(mirrored), ny_(dims[1]), nz_(dims[2]), small_(dims[0] < 2 || ny_ < 2 || nz_ < 2) {}
 
   TriMesh run(bool normals) {
     TriMesh mesh;
-    if (nx_ < 2 || ny_ < 2 || nz_ < 2) return mesh;
-    count();
-    const size_t vertices = vertex_first_.back();
+    if (small_) return mesh;
+    ids_ = count_rows<3>(ny_, nz_, "marching cubes", progress_, [&](int64_t j, int64_t k) {
+      RowTally<3> t;
+      t.vertices[0] = uint64_t(scan_.row_edge_count(0, j, k));
+      if (j + 1 < ny_) t.vertices[1] = uint64_t(scan_.row_edge_count(1, j, k));
+      if (k + 1 < nz_) t.vertices[2] = uint64_t(scan_.row_edge_count(2, j, k));
+      if (j + 1 < ny_ && k + 1 < nz_) {
+        t.triangles = uint64_t(
+            scan_.cell_sum(j, k, [&](int cs) { return int64_t{table_.triangle_count(cs)}; }));
+      }
+      return t;
+    });
+    const size_t vertices = ids_.vertex_first.back();
     resize_zeroed(mesh.positions, vertices);
     if (normals) resize_zeroed(mesh.normals, vertices);
-    resize_zeroed(mesh.indices, 3 * size_t{triangle_first_.back()});
-    fill(mesh);
+    resize_zeroed(mesh.indices, 3 * size_t{ids_.triangle_first.back()});
+    fill_rows(ny_, nz_, progress_, [&](int64_t j, int64_t k, size_t r) {
+      const RowCount<3>& c = ids_.counts[r];
+      for (int axis = 0; axis < 3; ++axis) {
+        if (c.vertices[axis] > 0) vertices_.emit_row(axis, j, k, first_id(ids_, r, axis), mesh);
+      }
+      if (c.triangles > 0) emit_cells(j, k, r, mesh);
+    });
     return mesh;
   }
 
  private:
-  int64_t rows() const { return ny_ * nz_; }
-  size_t row_index(int64_t j, int64_t k) const { return static_cast<size_t>(k * ny_ + j); }
-
-  void count() {
-    counts_.assign(static_cast<size_t>(rows()), RowCount{});
-    tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 64), [&](const auto& range) {
-      throw_if_cancelled(progress_);
-      for (int64_t r = range.begin(); r < range.end(); ++r) {
-        const int64_t j = r % ny_, k = r / ny_;
-        RowCount& c = counts_[static_cast<size_t>(r)];
-        auto count32 = [](int64_t n) { return mesh_id_count(uint64_t(n), "marching cubes"); };
-        c.edges[0] = count32(scan_.row_edge_count(0, j, k));
-        if (j + 1 < ny_) c.edges[1] = count32(scan_.row_edge_count(1, j, k));
-        if (k + 1 < nz_) c.edges[2] = count32(scan_.row_edge_count(2, j, k));
-        if (j + 1 < ny_ && k + 1 < nz_) {
-          c.triangles = count32(
-              scan_.cell_sum(j, k, [&](int cs) { return int64_t{table_.triangle_count(cs)}; }));
-        }
-      }
-    });
-    vertex_first_.assign(counts_.size() + 1, 0);
-    triangle_first_.assign(counts_.size() + 1, 0);
-    uint64_t vertices = 0, triangles = 0;
-    for (size_t r = 0; r < counts_.size(); ++r) {
-      const RowCount& c = counts_[r];
-      vertices += uint64_t{c.edges[0]} + c.edges[1] + c.edges[2];
-      triangles += c.triangles;
-      vertex_first_[r + 1] = mesh_id_count(vertices, "marching cubes");
-      triangle_first_[r + 1] = mesh_id_count(triangles, "marching cubes");
-    }
-  }
-
-  // The first id of row (j, k)'s cut edges along `axis`.
-  uint32_t first_id(int64_t j, int64_t k, int axis) const {
-    const size_t r = row_index(j, k);
-    uint32_t id = vertex_first_[r];
-    for (int a = 0; a < axis; ++a) id += counts_[r].edges[a];
-    return id;
-  }
-
-  void emit_cells(int64_t j, int64_t k, TriMesh& mesh) const {
-    uint32_t* out = mesh.indices.data() + 3 * size_t{triangle_first_[row_index(j, k)]};
-    // Cursors: the id of the next cut edge not yet passed, per (row, axis) the cells touch.
-    // x-edges of the rows (j + y, k + z) for cell edges y + 2z; y-edges of rows (j, k + z) and
-    // z-edges of rows (j + y, k), each at x (the cell's left) and x + 1 (its right).
-    uint32_t cx[4], cy[2], cz[2];
-    for (int b = 0; b < 4; ++b) cx[b] = first_id(j + (b & 1), k + (b >> 1), 0);
-    for (int h = 0; h < 2; ++h) cy[h] = first_id(j, k + h, 1);
-    for (int h = 0; h < 2; ++h) cz[h] = first_id(j + h, k, 2);
+  void emit_cells(int64_t j, int64_t k, size_t r, TriMesh& mesh) const {
+    uint32_t* out = mesh.indices.data() + 3 * size_t{ids_.triangle_first[r]};
+    CutEdgeCursors cursors = cut_edge_cursors(ids_, j, k);
     scan_.cells(j, k, [&](int64_t, int cs) {
-      const unsigned m = kCutEdges[static_cast<size_t>(cs)];
       uint32_t id[12];
-      for (int b = 0; b < 4; ++b) {
-        id[b] = cx[b];
-        cx[b] += m >> b & 1;
-      }
-      for (int h = 0; h < 2; ++h) {
-        const uint32_t left_y = m >> (4 + 2 * h) & 1, left_z = m >> (8 + 2 * h) & 1;
-        id[4 + 2 * h] = cy[h];
-        id[5 + 2 * h] = cy[h] + left_y;
-        cy[h] += left_y;
-        id[8 + 2 * h] = cz[h];
-        id[9 + 2 * h] = cz[h] + left_z;
-        cz[h] += left_z;
-      }
+      cut_edge_ids(cursors, kCutEdges[static_cast<size_t>(cs)], id);
       const auto* tri = table_.triangles.data() + table_.first[static_cast<size_t>(cs)];
       const int n = table_.triangle_count(cs);
       for (int t = 0; t < n; ++t, out += 3) {
@@ -149,31 +91,14 @@ class Extractor {
     });
   }
 
-  void fill(TriMesh& mesh) {
-    std::atomic<int64_t> rows_done{0};
-    tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 64), [&](const auto& range) {
-      throw_if_cancelled(progress_);
-      for (int64_t r = range.begin(); r < range.end(); ++r) {
-        const int64_t j = r % ny_, k = r / ny_;
-        const RowCount& c = counts_[static_cast<size_t>(r)];
-        for (int axis = 0; axis < 3; ++axis) {
-          if (c.edges[axis] > 0) vertices_.emit_row(axis, j, k, first_id(j, k, axis), mesh);
-        }
-        if (c.triangles > 0) emit_cells(j, k, mesh);
-      }
-      progress_.update(double(rows_done += range.size()) / double(rows()));
-    });
-  }
-
   const Scan& scan_;
   const Vertices& vertices_;
   const McTable& table_;
   Progress& progress_;
   const bool flip_;  // a mirrored grid reverses the winding of index space
-  const int64_t nx_, ny_, nz_;
-  std::vector<RowCount> counts_;
-  std::vector<uint32_t> vertex_first_;    // first vertex id of each row's cut edges
-  std::vector<uint32_t> triangle_first_;  // first triangle of each row's cells
+  const int64_t ny_, nz_;
+  const bool small_;  // fewer than two grid points along an axis: no cells
+  RowIds<3> ids_;
 };
 
 // Vertices of a field: interpolated along the edge, normals from the gradient when asked.

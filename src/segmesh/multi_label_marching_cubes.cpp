@@ -1,15 +1,12 @@
 #include "segmesh/multi_label_marching_cubes.hpp"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <vector>
 
 #include "segmesh/detail/marching_cubes_table.hpp"
 #include "segmesh/detail/material_rows.hpp"
+#include "segmesh/detail/row_passes.hpp"
 #include "segmesh/first_touch.hpp"
 #include "segmesh/vec3.hpp"
 
@@ -188,15 +185,10 @@ CellClass classify(const uint32_t* m, const McTable& table, bool joined_by_winne
 
 // ---- the rows ----------------------------------------------------------------------------------
 
-// Vertex kinds of a row, in the order their ids follow: cut x-, y-, z-edges starting at the row's
-// grid points, centred faces at x (the face x = i of the cells), at y = j and at z = k (the faces
-// at the row's low sides), junction cells' centres.
-enum Kind { kEdgeX, kEdgeY, kEdgeZ, kFaceX, kFaceY, kFaceZ, kCell, kKinds };
-
-struct RowCount {
-  uint32_t n[kKinds] = {};
-  uint32_t triangles = 0;
-};
+// Vertex kinds of a row, in the order their ids follow (row_passes.hpp): cut x-, y-, z-edges
+// starting at the row's grid points, centred faces at x (the face x = i of the cells), at y = j
+// and at z = k (the faces at the row's low sides), junction cells' centres.
+enum Kind : size_t { kEdgeX, kEdgeY, kEdgeZ, kFaceX, kFaceY, kFaceZ, kCell, kKinds };
 
 class Extractor {
  public:
@@ -208,22 +200,27 @@ class Extractor {
   LabelledSurface run() {
     LabelledSurface out;
     if (rows_.empty()) return out;
-    count();
-    resize_zeroed(out.mesh.positions, vertex_first_.back());
-    const size_t triangles = triangle_first_.back();
+    ids_ = count_rows<kKinds>(ny_, nz_, "multi-label extraction", progress_,
+                              [&](int64_t j, int64_t k) { return tally(j, k); });
+    resize_zeroed(out.mesh.positions, ids_.vertex_first.back());
+    const size_t triangles = ids_.triangle_first.back();
     resize_zeroed(out.mesh.indices, 3 * triangles);
     out.sides.resize(triangles);
-    fill(out);
-    for (size_t r = 0; r < counts_.size(); ++r) {
-      const uint32_t first = first_id(r, kCell);
-      for (uint32_t i = 0; i < counts_[r].n[kCell]; ++i) out.junction_vertices.push_back(first + i);
+    fill_rows(ny_, nz_, progress_, [&](int64_t j, int64_t k, size_t r) {
+      emit_row_vertices(j, k, r, out.mesh);
+      if (j + 1 < ny_ && k + 1 < nz_ && ids_.counts[r].triangles > 0) emit_cells(j, k, r, out);
+    });
+    for (size_t r = 0; r < ids_.counts.size(); ++r) {
+      const uint32_t first = first_id(ids_, r, kCell);
+      for (uint32_t i = 0; i < ids_.counts[r].vertices[kCell]; ++i) {
+        out.junction_vertices.push_back(first + i);
+      }
     }
     return out;
   }
 
  private:
-  int64_t rows() const { return ny_ * nz_; }
-  size_t row_index(int64_t j, int64_t k) const { return static_cast<size_t>(k * ny_ + j); }
+  size_t row_index(int64_t j, int64_t k) const { return row_of(ny_, j, k); }
   std::span<const MaterialRun> row(int64_t j, int64_t k) const { return rows_.row(j, k); }
 
   // Calls visit(i) for each edge along `axis` from grid point (i, j, k) joining two materials.
@@ -278,58 +275,31 @@ class Extractor {
     // The last interval reaches the margin, where every row is background.
   }
 
-  void count() {
-    counts_.assign(static_cast<size_t>(rows()), RowCount{});
-    tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 64), [&](const auto& range) {
-      throw_if_cancelled(progress_);
-      for (int64_t r = range.begin(); r < range.end(); ++r) {
-        const int64_t j = r % ny_, k = r / ny_;
-        RowCount& c = counts_[static_cast<size_t>(r)];
-        uint64_t n[3] = {0, 0, 0};
-        row_edges(0, j, k, [&](int64_t) { ++n[0]; });
-        if (j + 1 < ny_) row_edges(1, j, k, [&](int64_t) { ++n[1]; });
-        if (k + 1 < nz_) row_edges(2, j, k, [&](int64_t) { ++n[2]; });
-        for (int a = 0; a < 3; ++a) c.n[kEdgeX + a] = mesh_id_count(n[a], "multi-label extraction");
-        if (j + 1 >= ny_ || k + 1 >= nz_) continue;
-        uint64_t faces[3] = {0, 0, 0}, centres = 0, triangles = 0;
-        cells(j, k, [&](int64_t, const uint32_t* m) {
-          const CellClass cc = classify(m, table_, joined_by_winner_);
-          triangles += uint64_t(cc.triangles);
-          if (cc.kind != CellKind::junction) return;
-          ++centres;
-          for (int a = 0; a < 3; ++a) faces[a] += cc.centred_faces >> (2 * a) & 1;
-        });
-        for (int a = 0; a < 3; ++a) c.n[kFaceX + a] = mesh_id_count(faces[a], "multi-label extraction");
-        c.n[kCell] = mesh_id_count(centres, "multi-label extraction");
-        c.triangles = mesh_id_count(triangles, "multi-label extraction");
-      }
+  // The vertices and triangles row (j, k) contributes.
+  RowTally<kKinds> tally(int64_t j, int64_t k) const {
+    RowTally<kKinds> t;
+    row_edges(0, j, k, [&](int64_t) { ++t.vertices[kEdgeX]; });
+    if (j + 1 < ny_) row_edges(1, j, k, [&](int64_t) { ++t.vertices[kEdgeY]; });
+    if (k + 1 < nz_) row_edges(2, j, k, [&](int64_t) { ++t.vertices[kEdgeZ]; });
+    if (j + 1 >= ny_ || k + 1 >= nz_) return t;
+    cells(j, k, [&](int64_t, const uint32_t* m) {
+      const CellClass cc = classify(m, table_, joined_by_winner_);
+      t.triangles += uint64_t(cc.triangles);
+      if (cc.kind != CellKind::junction) return;
+      ++t.vertices[kCell];
+      for (size_t a = 0; a < 3; ++a) t.vertices[kFaceX + a] += cc.centred_faces >> (2 * a) & 1;
     });
-    vertex_first_.assign(counts_.size() + 1, 0);
-    triangle_first_.assign(counts_.size() + 1, 0);
-    uint64_t vertices = 0, triangles = 0;
-    for (size_t r = 0; r < counts_.size(); ++r) {
-      for (uint32_t n : counts_[r].n) vertices += n;
-      triangles += counts_[r].triangles;
-      vertex_first_[r + 1] = mesh_id_count(vertices, "multi-label extraction");
-      triangle_first_[r + 1] = mesh_id_count(triangles, "multi-label extraction");
-    }
-  }
-
-  uint32_t first_id(size_t r, int kind) const {
-    uint32_t id = vertex_first_[r];
-    for (int q = 0; q < kind; ++q) id += counts_[r].n[q];
-    return id;
+    return t;
   }
 
   Vec3f world(double i, double j, double k) const {
     return to_float(rows_.grid().to_world({i, j, k}));
   }
 
-  void emit_row_vertices(int64_t j, int64_t k, TriMesh& mesh) const {
-    const size_t r = row_index(j, k);
+  void emit_row_vertices(int64_t j, int64_t k, size_t r, TriMesh& mesh) const {
     for (int axis = 0; axis < 3; ++axis) {
-      if (counts_[r].n[kEdgeX + axis] == 0) continue;
-      Vec3f* out = mesh.positions.data() + first_id(r, kEdgeX + axis);
+      if (ids_.counts[r].vertices[kEdgeX + size_t(axis)] == 0) continue;
+      Vec3f* out = mesh.positions.data() + first_id(ids_, r, kEdgeX + size_t(axis));
       row_edges(axis, j, k, [&](int64_t i) {
         *out++ = world(double(i) + (axis == 0 ? 0.5 : 0), double(j) + (axis == 1 ? 0.5 : 0),
                        double(k) + (axis == 2 ? 0.5 : 0));
@@ -337,40 +307,23 @@ class Extractor {
     }
   }
 
-  void emit_cells(int64_t j, int64_t k, LabelledSurface& out) const {
-    const size_t r = row_index(j, k);
-    const size_t first_triangle = triangle_first_[r];
+  void emit_cells(int64_t j, int64_t k, size_t r, LabelledSurface& out) const {
+    const size_t first_triangle = ids_.triangle_first[r];
     uint32_t* idx = out.mesh.indices.data() + 3 * first_triangle;
     std::array<uint32_t, 2>* sides = out.sides.data() + first_triangle;
     Vec3f* positions = out.mesh.positions.data();
-    // Cursors, as in marching_cubes.cpp: the next unvisited cut edge per (row, axis) the cells
-    // touch, and the next centred face of each face list the cells read.
-    uint32_t cx[4], cy[2], cz[2];
-    for (int b = 0; b < 4; ++b) cx[b] = first_id(row_index(j + (b & 1), k + (b >> 1)), kEdgeX);
-    for (int h = 0; h < 2; ++h) cy[h] = first_id(row_index(j, k + h), kEdgeY);
-    for (int h = 0; h < 2; ++h) cz[h] = first_id(row_index(j + h, k), kEdgeZ);
-    uint32_t face_x = first_id(r, kFaceX), last_face_x = 0;
-    uint32_t face_y[2] = {first_id(r, kFaceY), j + 1 < ny_ ? first_id(row_index(j + 1, k), kFaceY) : 0};
-    uint32_t face_z[2] = {first_id(r, kFaceZ), k + 1 < nz_ ? first_id(row_index(j, k + 1), kFaceZ) : 0};
-    uint32_t centre = first_id(r, kCell);
+    // Cursors (row_passes.hpp): the next unvisited cut edge per (row, axis) the cells touch, and
+    // the next centred face of each face list the cells read.
+    CutEdgeCursors edges = cut_edge_cursors(ids_, j, k);
+    uint32_t face_x = first_id(ids_, r, kFaceX), last_face_x = 0;
+    uint32_t face_y[2] = {first_id(ids_, r, kFaceY), first_id(ids_, row_index(j + 1, k), kFaceY)};
+    uint32_t face_z[2] = {first_id(ids_, r, kFaceZ), first_id(ids_, row_index(j, k + 1), kFaceZ)};
+    uint32_t centre = first_id(ids_, r, kCell);
     cells(j, k, [&](int64_t i, const uint32_t* m) {
       const CellClass cc = classify(m, table_, joined_by_winner_);
       if (cc.kind == CellKind::empty) return;
-      const unsigned cut = cc.cut;
       uint32_t id[19];
-      for (int b = 0; b < 4; ++b) {
-        id[b] = cx[b];
-        cx[b] += cut >> b & 1;
-      }
-      for (int h = 0; h < 2; ++h) {
-        const uint32_t left_y = cut >> (4 + 2 * h) & 1, left_z = cut >> (8 + 2 * h) & 1;
-        id[4 + 2 * h] = cy[h];
-        id[5 + 2 * h] = cy[h] + left_y;
-        cy[h] += left_y;
-        id[8 + 2 * h] = cz[h];
-        id[9 + 2 * h] = cz[h] + left_z;
-        cz[h] += left_z;
-      }
+      cut_edge_ids(edges, cc.cut, id);
       if (cc.kind == CellKind::binary) {
         const auto* tri = table_.triangles.data() + table_.first[cc.binary_case];
         for (int t = 0; t < cc.triangles; ++t, idx += 3) {
@@ -420,29 +373,13 @@ class Extractor {
     });
   }
 
-  void fill(LabelledSurface& out) {
-    std::atomic<int64_t> rows_done{0};
-    tbb::parallel_for(tbb::blocked_range<int64_t>(0, rows(), 64), [&](const auto& range) {
-      throw_if_cancelled(progress_);
-      for (int64_t r = range.begin(); r < range.end(); ++r) {
-        const int64_t j = r % ny_, k = r / ny_;
-        emit_row_vertices(j, k, out.mesh);
-        if (j + 1 < ny_ && k + 1 < nz_ && counts_[static_cast<size_t>(r)].triangles > 0) {
-          emit_cells(j, k, out);
-        }
-      }
-      progress_.update(double(rows_done += range.size()) / double(rows()));
-    });
-  }
-
   const MaterialRows& rows_;
   const McTable& table_;
   const bool joined_by_winner_;
   Progress& progress_;
   const bool flip_;
   const int64_t ny_, nz_;
-  std::vector<RowCount> counts_;
-  std::vector<uint32_t> vertex_first_, triangle_first_;
+  RowIds<kKinds> ids_;
 };
 
 }  // namespace
