@@ -1,5 +1,10 @@
 #include "segmesh/joint_smoothing.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -26,41 +31,49 @@ struct JointTopology {
   std::vector<uint32_t> free_material;
 };
 
-JointTopology joint_topology(const LabelledSurface& s) {
-  const size_t nv = s.mesh.positions.size(), nt = s.sides.size();
+JointTopology joint_topology(const LabelledSurface& s, const TriangleChunks& chunks) {
+  const size_t nv = s.mesh.positions.size();
   const uint32_t* idx = s.mesh.indices.data();
-  // The first interface each vertex is met on, and whether it is on a second one.
+  // The first interface each vertex is met on, and whether it is on a second one (a scatter over
+  // the triangles: the result does not depend on the order they are met in).
   constexpr uint64_t kNone = ~uint64_t{0};
   std::vector<uint64_t> first(nv, kNone);
   std::vector<uint8_t> several(nv, 0);
-  for (size_t t = 0; t < nt; ++t) {
-    const uint64_t key = pair_key(s.sides[t]);
-    for (int c = 0; c < 3; ++c) {
-      const uint32_t v = idx[3 * t + size_t(c)];
-      if (first[v] == kNone) {
-        first[v] = key;
-      } else if (first[v] != key) {
-        several[v] = 1;
+  scatter_triangles(chunks, [&](size_t t0, size_t t1) {
+    for (size_t t = t0; t < t1; ++t) {
+      const uint64_t key = pair_key(s.sides[t]);
+      for (int c = 0; c < 3; ++c) {
+        const uint32_t v = idx[3 * t + size_t(c)];
+        if (first[v] == kNone) {
+          first[v] = key;
+        } else if (first[v] != key) {
+          several[v] = 1;
+        }
       }
     }
-  }
+  });
   // The edges between two such vertices, with the interface of each triangle along them; an
   // edge of two or more interfaces is a junction curve's.
   struct EdgeSide {
     uint32_t a, b;
     uint64_t key;
   };
+  tbb::enumerable_thread_specific<std::vector<EdgeSide>> found;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, s.sides.size(), kTriangleBlock),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      auto& out = found.local();
+                      for (size_t t = r.begin(); t != r.end(); ++t) {
+                        const uint32_t* x = idx + 3 * t;
+                        for (int c = 0; c < 3; ++c) {
+                          const uint32_t a = x[c], b = x[(c + 1) % 3];
+                          if (a != b && several[a] && several[b])
+                            out.push_back({std::min(a, b), std::max(a, b), pair_key(s.sides[t])});
+                        }
+                      }
+                    });
   std::vector<EdgeSide> edges;
-  for (size_t t = 0; t < nt; ++t) {
-    const uint32_t* x = idx + 3 * t;
-    for (int c = 0; c < 3; ++c) {
-      const uint32_t a = x[c], b = x[(c + 1) % 3];
-      if (a != b && several[a] && several[b]) {
-        edges.push_back({std::min(a, b), std::max(a, b), pair_key(s.sides[t])});
-      }
-    }
-  }
-  std::sort(edges.begin(), edges.end(), [](const EdgeSide& p, const EdgeSide& q) {
+  for (const auto& part : found) edges.insert(edges.end(), part.begin(), part.end());
+  tbb::parallel_sort(edges.begin(), edges.end(), [](const EdgeSide& p, const EdgeSide& q) {
     return p.a != q.a ? p.a < q.a : p.b != q.b ? p.b < q.b : p.key < q.key;
   });
   JointTopology out;
@@ -120,7 +133,7 @@ void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Prog
   const size_t nv = mesh.positions.size();
   const std::vector<uint32_t>& idx = mesh.indices;
   const Triangles triangles{idx.data(), triangle_chunks(idx)};
-  const JointTopology topology = joint_topology(surface);
+  const JointTopology topology = joint_topology(surface, triangles.chunks);
   const std::vector<Vec3f> original = mesh.positions;
   const Vec3f* o = original.data();
   const Vec3d centre = box_centre(mesh.positions);
