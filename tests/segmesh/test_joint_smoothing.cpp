@@ -19,6 +19,7 @@
 #include "segmesh/quality.hpp"
 #include "segmesh/scene_measures.hpp"
 #include "support/mesh_crossings.hpp"
+#include "support/sound_parts.hpp"
 #include "support/test_fields.hpp"
 
 namespace segmesh {
@@ -57,17 +58,6 @@ std::vector<Vec3d> contact_vertices(const LabelledSurface& s) {
   return out;
 }
 
-void expect_sound_shells(const Scene& scene) {
-  for (const Part& part : scene.parts) {
-    const MeshMeasures m = measure_mesh(part.mesh);
-    EXPECT_TRUE(m.closed()) << part.name;
-    EXPECT_EQ(m.nonmanifold_vertices, 0) << part.name;
-    EXPECT_EQ(m.shells, 1) << part.name;
-    EXPECT_GT(m.volume_mm3, 0) << part.name;  // outward
-    EXPECT_EQ(part.mesh.normals.size(), part.mesh.positions.size()) << part.name;
-  }
-}
-
 TEST(JointSmoothing, AScrewStaysInContactWithItsBlockThroughEverySmoothing) {
   const Image image = test::label_image(screw_in_block());
   for (SmoothMethod method :
@@ -79,7 +69,7 @@ TEST(JointSmoothing, AScrewStaysInContactWithItsBlockThroughEverySmoothing) {
     const Scene scene = build_scene(image, o);
     ASSERT_EQ(scene.parts.size(), 2u);
     ASSERT_TRUE(scene.surface.has_value());
-    expect_sound_shells(scene);
+    test::expect_sound_shells(scene);
     const std::vector<Vec3d> contact = contact_vertices(*scene.surface);
     ASSERT_GT(contact.size(), 100u);
     const MeshDistance block(scene.parts[0].mesh), screw(scene.parts[1].mesh);
@@ -110,7 +100,7 @@ TEST(JointSmoothing, ThePhantomKeepsItsContactsAndVolumes) {
   o.surfaces = Surfaces::independent;
   const Scene independent = build_scene(image, o);
   ASSERT_EQ(conforming.parts.size(), independent.parts.size());
-  expect_sound_shells(conforming);
+  test::expect_sound_shells(conforming);
   for (size_t p = 0; p < conforming.parts.size(); ++p) {
     EXPECT_EQ(conforming.parts[p].name, independent.parts[p].name);
     const double a = enclosed_volume(conforming.parts[p].mesh);
