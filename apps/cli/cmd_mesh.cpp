@@ -162,13 +162,15 @@ int run_mesh(const MeshArgs& args) {
 
   PipelineStats pipeline;
   const bool report = !args.report.empty();
-  const bool smoothed = options.smooth.method != SmoothMethod::none;
+  // The positions before smoothing and the meshes before decimation are kept for the report only.
+  const bool moved = options.smooth.method != SmoothMethod::none || options.decimate.active();
   ExtractedPositions extracted;
   const Scene scene = build_scene_releasing(image, options, progress, &pipeline,
-                                            report && smoothed ? &extracted : nullptr);
+                                            report && moved ? &extracted : nullptr);
   t.components = pipeline.components_ms;
   t.extract = pipeline.extract_ms;
   t.smooth = pipeline.smooth_ms;
+  t.decimate = pipeline.decimate_ms;
   // Part files are named after the parts, known only now; refused before anything is written.
   if (target.folder && !args.atlas.empty()) {
     for (const fs::path& p : part_file_paths(scene, target.path, target.format)) {
@@ -189,7 +191,7 @@ int run_mesh(const MeshArgs& args) {
     measuring.run([&] {
       measures = measure_scene(scene, {.quality = report,
                                        .contacts = report,
-                                       .extracted = report && smoothed ? &extracted : nullptr});
+                                       .extracted = report && moved ? &extracted : nullptr});
       extracted = {};
     });
   }
@@ -247,9 +249,13 @@ int run_mesh(const MeshArgs& args) {
       std::printf(" (%lld parts thinner than the --presmooth kernel meshed unsmoothed)",
                   (long long)pipeline.presmooth_fallbacks);
     }
-    std::printf(" in %.0f ms (read %.0f, components %.0f, extract %.0f, smooth %.0f, write %.0f, "
+    std::printf(" in %.0f ms (read %.0f, components %.0f, extract %.0f, smooth %.0f%s, write %.0f, "
                 "measure %.0f%s)\n",
-                t.total, t.read, t.components, t.extract, t.smooth, t.write, t.measure,
+                t.total, t.read, t.components, t.extract, t.smooth,
+                options.decimate.active()
+                    ? (", decimate " + std::to_string(long(t.decimate + 0.5))).c_str()
+                    : "",
+                t.write, t.measure,
                 report ? (", report " + std::to_string(long(t.report + 0.5))).c_str() : "");
     std::printf("wrote %s%s\n", target.path.string().c_str(),
                 target.folder ? (" (" + std::to_string(outputs.size()) + " files)").c_str() : "");

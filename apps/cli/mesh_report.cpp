@@ -25,6 +25,15 @@ nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, co
     const QualityStats quality = measures[p].quality.value_or(QualityStats{});
     const double volume_before = measures[p].volume_before_mm3.value_or(m.volume_mm3);
     const Deviation deviation = measures[p].smoothing_deviation.value_or(Deviation{0, 0, 0});
+    // Decimation: null when the scene was not decimated.
+    nlohmann::json decimation = nullptr;
+    if (const auto& d = measures[p].decimation_deviation) {
+      decimation = {{"triangles_before", measures[p].triangles_before_decimation.value_or(0)},
+                     {"triangles_after", m.triangles},
+                     {"hausdorff_mm", d->hausdorff},
+                     {"p95_mm", d->p95},
+                     {"mean_mm", d->mean}};
+    }
     parts.push_back({{"name", part.name},
                      {"label", part.label},
                      {"component", part.component},
@@ -49,7 +58,8 @@ nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, co
                      {"smoothing_deviation_mm",
                       {{"hausdorff", deviation.hausdorff},
                        {"mean", deviation.mean},
-                       {"p95", deviation.p95}}}});
+                       {"p95", deviation.p95}}},
+                     {"decimation", decimation}});
     vertices += m.vertices;
     triangles += m.triangles;
     voxels += part.voxels;
@@ -77,6 +87,7 @@ nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, co
             {"components", t.components},
             {"extract", t.extract},
             {"smooth", t.smooth},
+            {"decimate", t.decimate},
             {"write", t.write},
             {"measure", t.measure},
             {"report", t.report},

@@ -19,9 +19,11 @@ namespace segmesh::cli {
 // the time the measuring added after the write it runs beside, report the time to assemble the
 // report, and other what no step accounts for (options, output checks, the summary).
 struct Timings {
-  double read = 0, components = 0, extract = 0, smooth = 0, write = 0, measure = 0, report = 0,
-         total = 0;
-  double steps() const { return read + components + extract + smooth + write + measure + report; }
+  double read = 0, components = 0, extract = 0, smooth = 0, decimate = 0, write = 0, measure = 0,
+         report = 0, total = 0;
+  double steps() const {
+    return read + components + extract + smooth + decimate + write + measure + report;
+  }
 };
 
 nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, const Timings& timings,

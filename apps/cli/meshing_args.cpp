@@ -73,7 +73,11 @@ nlohmann::json meshing_json(const MeshingOptions& o, const std::string& label_na
                         {"sinc_unit_gain", s.sinc_unit_gain},
                         {"preserve_volume", s.preserve_volume}}},
                       {"dc_svd_eps", o.dc_svd_eps},
-                      {"dc_tolerance_mm", o.dc_tolerance_mm}};
+                      {"dc_tolerance_mm", o.dc_tolerance_mm},
+                      {"decimate",
+                       {{"error_mm", o.decimate.error_mm},
+                        {"max_triangles", o.decimate.max_triangles},
+                        {"max_triangles_per_part", o.decimate.max_triangles_per_part}}}};
   j["iso"] = o.iso ? nlohmann::json(*o.iso) : nlohmann::json(nullptr);
   j["label_names"] = label_names.empty() ? nlohmann::json(nullptr) : nlohmann::json(label_names);
   return j;

@@ -150,6 +150,13 @@ MeshingOptions resolve_meshing_options(MeshingOptions o) {
     fail("--" + option + " " + problem->rule);
   }
   if (s.iterations == 0) s.iterations = default_smooth_iterations(s.method);
+  if (const auto problem = decimate_options_problem(o.decimate)) {
+    const double value = problem->option == "decimate-error" ? o.decimate.error_mm
+                         : problem->option == "max-triangles"
+                             ? double(o.decimate.max_triangles)
+                             : double(o.decimate.max_triangles_per_part);
+    fail("--" + std::string(problem->option) + " " + std::string(problem->rule) + got(value));
+  }
   return o;
 }
 
@@ -333,6 +340,27 @@ constexpr std::array kSpecs = {
         "windowed sinc exactly as VTK and 3D Slicer (a slight scaling, f(0) != 1)",
         [](const O& o) { return std::string(o.smooth.sinc_unit_gain ? "true" : "false"); },
         [](O& o, std::string_view t) { o.smooth.sinc_unit_gain = flag("unit-gain", t); }},
+    MeshingOptionSpec{
+        "decimate-error", "FLOAT",
+        "decimate while the quadric error stays below this many mm (0: off; the report measures "
+        "the true distance)",
+        [](const O& o) { return number_text(o.decimate.error_mm); },
+        [](O& o, std::string_view t) { o.decimate.error_mm = number("decimate-error", t); }},
+    MeshingOptionSpec{"max-triangles", "INT",
+                      "decimate to at most this many triangles in all, shared by the parts in "
+                      "proportion to their area (0: off; wins over --decimate-error)",
+                      [](const O& o) { return std::to_string(o.decimate.max_triangles); },
+                      [](O& o, std::string_view t) {
+                        o.decimate.max_triangles = whole_number<int64_t>("max-triangles", t);
+                      }},
+    MeshingOptionSpec{"max-triangles-per-part", "INT",
+                      "decimate every part to at most this many triangles (0: off; no part goes "
+                      "below 32)",
+                      [](const O& o) { return std::to_string(o.decimate.max_triangles_per_part); },
+                      [](O& o, std::string_view t) {
+                        o.decimate.max_triangles_per_part =
+                            whole_number<int64_t>("max-triangles-per-part", t);
+                      }},
 };
 
 }  // namespace

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "segmesh/connectivity.hpp"
+#include "segmesh/decimation.hpp"
 #include "segmesh/dual_contouring.hpp"
 #include "segmesh/gradient.hpp"
 #include "segmesh/label_info.hpp"
@@ -70,6 +71,7 @@ struct MeshingOptions {
   double dc_svd_eps = kDefaultDcSvdEps;     // Dual Contouring: relative singular value cut-off of the QEF
   double dc_tolerance_mm = 0;  // Dual Contouring: > 0 simplifies flat regions adaptively
   SmoothOptions smooth = default_smoothing();  // mesh smoothing after extraction, per part
+  DecimateOptions decimate;  // after smoothing (decimation.hpp); off by default
   bool color_by_quality = false;  // per-vertex colours from the worst incident radii ratio
 };
 

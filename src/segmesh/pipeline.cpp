@@ -13,6 +13,7 @@
 #include <variant>
 
 #include "segmesh/components.hpp"
+#include "segmesh/decimation.hpp"
 #include "segmesh/error.hpp"
 #include "segmesh/label_stats.hpp"
 #include "segmesh/extract_part.hpp"
@@ -283,8 +284,19 @@ Scene run_pipeline(const Image& image, const MeshingOptions& options, Progress& 
   progress.step("smoothing");
   start = Clock::now();
   smooth_scene(scene, o.smooth, progress);
-  if (o.color_by_quality) color_scene_by_quality(scene);
   t.smooth_ms = ms_since(start);
+  if (o.decimate.active()) {
+    progress.step("decimating");
+    start = Clock::now();
+    if (extracted) {
+      for (const Part& part : scene.parts) extracted->undecimated.push_back(part.mesh);
+    }
+    t.decimation = decimate_scene(scene, o.decimate);
+    t.decimate_ms = ms_since(start);
+  }
+  start = Clock::now();
+  if (o.color_by_quality) color_scene_by_quality(scene);
+  t.smooth_ms += ms_since(start);
   return scene;
 }
 

@@ -2,7 +2,7 @@
 // viewer, the benchmarks and the tests all call build_scene; none of them re-implements a step.
 //
 //   volume ──► select labels ──► connected components ──► [volume smoothing] ──► extract (MC | DC)
-//          ──► mesh smoothing ──► [quality colours] ──► Scene
+//          ──► mesh smoothing ──► [decimation] ──► [quality colours] ──► Scene
 //
 // Options come resolved from meshing_options.hpp (build_scene resolves them again, so a caller may
 // pass a request). Label maps: every selected label is split into connected components
@@ -37,6 +37,8 @@ struct PipelineStats {
   double components_ms = 0;
   double extract_ms = 0;
   double smooth_ms = 0;  // the smoothing and, when asked, the quality colours
+  double decimate_ms = 0;
+  DecimationStats decimation;  // when decimated
   int64_t dropped_components = 0;  // smaller than min_voxels
   int64_t presmooth_fallbacks = 0;  // parts volume smoothing would have erased, meshed without it
   bool parts_touch = false;  // label maps: some parts touch (their contacts are shared only when
@@ -62,13 +64,15 @@ PipelineParts find_parts(const Image& image, const MeshingOptions& options,
 // 2. One Part per kept component, extracted in parallel (not smoothed).
 Scene extract_parts(const Image& image, const PipelineParts& parts, const MeshingOptions& options,
                     Progress& progress = null_progress(), int64_t* presmooth_fallbacks = nullptr);
-// 3. smooth_scene (below), then color_scene_by_quality when asked.
+// 3. smooth_scene (below); 4. decimate_scene (decimation.hpp) when asked; then
+//    color_scene_by_quality when asked.
 
 // Builds the scene. Throws segmesh::Error (naming image.path) for requests the volume cannot
 // satisfy: a float volume without iso, a label that is not in the volume, no foreground at all,
 // nothing left after --min-voxels, invalid options. Throws Cancelled when progress is cancelled.
 // With `extracted`, also returns every part's positions as extracted, before smoothing (for
-// reports that say how far smoothing moved the surface: scene_measures.hpp).
+// reports that say how far smoothing moved the surface: scene_measures.hpp), and when the scene
+// is decimated every part's mesh before decimation (for the decimation's error).
 Scene build_scene(const Image& image, const MeshingOptions& options,
                   Progress& progress = null_progress(), PipelineStats* timings = nullptr,
                   ExtractedPositions* extracted = nullptr);

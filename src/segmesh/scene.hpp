@@ -49,6 +49,9 @@ struct Part {
 // bytes per vertex, where a copy of the meshes would take 24 per triangle more.
 struct ExtractedPositions {
   std::vector<std::vector<Vec3f>> parts;  // in scene order
+  // When the scene was decimated: every part's mesh before decimation (after smoothing), whose
+  // positions `parts` are before smoothing; empty otherwise.
+  std::vector<TriMesh> undecimated;
 };
 
 struct Scene {

@@ -14,13 +14,19 @@
 
 namespace segmesh {
 
-PartMeasures measure_part(const TriMesh& mesh, bool quality, const std::vector<Vec3f>* extracted) {
+PartMeasures measure_part(const TriMesh& mesh, bool quality, const std::vector<Vec3f>* extracted,
+                          const TriMesh* undecimated) {
   PartMeasures m;
   m.mesh = measure_mesh(mesh);
   if (quality) m.quality = triangle_quality(mesh);
+  const TriMesh& smoothed = undecimated ? *undecimated : mesh;
   if (extracted) {
-    m.volume_before_mm3 = enclosed_volume(*extracted, mesh.indices);
-    m.smoothing_deviation = moved_mesh_deviation(*extracted, mesh);
+    m.volume_before_mm3 = enclosed_volume(*extracted, smoothed.indices);
+    m.smoothing_deviation = moved_mesh_deviation(*extracted, smoothed);
+  }
+  if (undecimated) {
+    m.triangles_before_decimation = int64_t(undecimated->triangle_count());
+    m.decimation_deviation = mesh_deviation(*undecimated, mesh);
   }
   return m;
 }
@@ -76,10 +82,12 @@ SceneMeasures measure_scene(const Scene& scene, const MeasureRequest& request,
                             Progress& progress) {
   const size_t n = scene.parts.size();
   const ExtractedPositions* extracted = request.extracted;
+  const bool decimated = extracted && !extracted->undecimated.empty();
   if (extracted) {
-    bool matches = extracted->parts.size() == n;
+    bool matches = extracted->parts.size() == n && (!decimated || extracted->undecimated.size() == n);
     for (size_t p = 0; matches && p < n; ++p)
-      matches = extracted->parts[p].size() == scene.parts[p].mesh.positions.size();
+      matches = extracted->parts[p].size() ==
+                (decimated ? extracted->undecimated[p] : scene.parts[p].mesh).positions.size();
     if (!matches) {
       throw std::invalid_argument("measure_scene: the extracted positions are not the scene's parts");
     }
@@ -93,7 +101,8 @@ SceneMeasures measure_scene(const Scene& scene, const MeasureRequest& request,
   tbb::parallel_for(size_t{0}, n, [&](size_t p) {
     throw_if_cancelled(progress);
     out.parts[p] = measure_part(scene.parts[p].mesh, request.quality,
-                                extracted ? &extracted->parts[p] : nullptr);
+                                extracted ? &extracted->parts[p] : nullptr,
+                                decimated ? &extracted->undecimated[p] : nullptr);
     shared.done(p);
   });
   throw_if_cancelled(progress);

@@ -268,6 +268,38 @@ TEST(Cli, SmoothingIterationsDefaultPerMethod) {
   EXPECT_TRUE(bytes("hc") == bytes("hc2"));
 }
 
+// Decimation through the command line: the budget holds, every part stays closed, and the report
+// gives every part's triangles before and after and its distance to the undecimated part.
+TEST(Cli, DecimationKeepsTheBudgetAndReportsItsError) {
+  const fs::path dir = test::scratch_dir("cli_decimate");
+  const fs::path phantom = small_phantom("cli_decimate");
+  const auto r = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "scene.ply") +
+                             " --max-triangles 20000 --report " + q(dir / "report.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("decimate "), std::string::npos) << r.out;
+  std::ifstream in(dir / "report.json");
+  const auto report = nlohmann::json::parse(in);
+  EXPECT_LE(report["totals"]["triangles"].get<int64_t>(), 20000);
+  EXPECT_TRUE(report["totals"]["all_closed"].get<bool>());
+  EXPECT_EQ(report["totals"]["max_contact_gap_mm"].get<double>(), 0.0);
+  EXPECT_EQ(report["options"]["decimate"]["max_triangles"], 20000);
+  EXPECT_GE(report["timings_ms"]["decimate"].get<double>(), 0.0);
+  for (const auto& part : report["parts"]) {
+    const auto& d = part["decimation"];
+    ASSERT_TRUE(d.is_object()) << part["name"];
+    EXPECT_GT(d["triangles_before"].get<int64_t>(), d["triangles_after"].get<int64_t>());
+    EXPECT_EQ(d["triangles_after"], part["triangles"]);
+    EXPECT_GT(d["hausdorff_mm"].get<double>(), 0.0);
+    EXPECT_LE(d["p95_mm"].get<double>(), d["hausdorff_mm"].get<double>());
+  }
+  // Without decimation the field is null.
+  const auto plain = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "plain.ply") +
+                                 " --report " + q(dir / "plain.json"));
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  std::ifstream plain_in(dir / "plain.json");
+  EXPECT_TRUE(nlohmann::json::parse(plain_in)["parts"][0]["decimation"].is_null());
+}
+
 TEST(Cli, FolderOutputWritesOneClosedFilePerPart) {
   const fs::path dir = test::scratch_dir("cli_parts");
   const fs::path phantom = small_phantom("cli_parts");
@@ -387,6 +419,12 @@ TEST(Cli, BadInputsGiveExitCode2AMessageAndNoOutput) {
       {"pass band zero", q(good) + " -o " + out + " --pass-band 0", "--pass-band"},
       {"not a number", q(good) + " -o " + out + " --presmooth wide", "--presmooth expects a number"},
       {"label list", q(good) + " -o " + out + " --labels 1,x", "--labels expects whole numbers"},
+      {"negative decimation error", q(good) + " -o " + out + " --decimate-error -0.5",
+       "--decimate-error must be a non-negative number of millimetres (got -0.5)"},
+      {"negative budget", q(good) + " -o " + out + " --max-triangles -5",
+       "--max-triangles must not be negative"},
+      {"budget not a number", q(good) + " -o " + out + " --max-triangles-per-part lots",
+       "--max-triangles-per-part expects a whole number"},
       {"output is the input", q(good) + " -o " + q(good), ""},
   };
   for (const BadInput& c : cases) {

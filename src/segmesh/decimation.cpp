@@ -1,0 +1,548 @@
+#include "segmesh/decimation.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <queue>
+
+#include "segmesh/detail/edge_flips.hpp"
+#include "segmesh/detail/fold_repair.hpp"
+#include "segmesh/detail/quadric.hpp"
+#include "segmesh/detail/surface_roles.hpp"
+#include "segmesh/mesh_distance.hpp"
+#include "segmesh/mesh_measures.hpp"
+#include "segmesh/quality.hpp"
+#include "segmesh/scene.hpp"
+#include "segmesh/smoothing.hpp"
+
+namespace segmesh {
+
+namespace {
+
+bool same_interface(const std::array<uint32_t, 2>& a, const std::array<uint32_t, 2>& b) {
+  return a == b || (a[0] == b[1] && a[1] == b[0]);
+}
+
+struct Candidate {
+  double cost = 0;
+  uint32_t remove = 0, keep = 0;
+  Vec3d position;
+  uint32_t remove_version = 0, keep_version = 0;
+  // The heap's order: least cost first, ties by ids.
+  bool operator<(const Candidate& o) const {
+    if (cost != o.cost) return cost > o.cost;
+    if (remove != o.remove) return remove > o.remove;
+    return keep > o.keep;
+  }
+};
+
+constexpr double kMaxNormalTurnCos = 0.5;  // 60 degrees
+constexpr double kSliver = 0.02;  // decimation.hpp says why not 0.05
+constexpr double kPlaneWeight = 1.0 / 3;
+
+class Collapser {
+ public:
+  Collapser(LabelledSurface& s, const DecimateOptions& options, std::span<const int64_t> budgets)
+      : s_(s), options_(options) {
+    const size_t nv = s.mesh.positions.size(), nt = s.sides.size();
+    pos_.resize(nv);
+    for (size_t v = 0; v < nv; ++v) pos_[v] = to_double(s.mesh.positions[v]);
+    role_ = surface_roles(s, InterfaceSides::either_way).smooth.role;
+    junction_.assign(nv, 0);
+    for (uint32_t v : s.junction_vertices) junction_[v] = 1;
+    quadric_.resize(nv);
+    original_ = pos_;
+    absorbed_.resize(nv);
+    for (uint32_t v = 0; v < nv; ++v) absorbed_[v].push_back(v);
+    tris_.resize(nv);
+    alive_tri_.assign(nt, 1);
+    alive_vertex_.assign(nv, 1);
+    version_.assign(nv, 0);
+    count_.assign(s.part_count + 1, 0);
+    budget_.assign(s.part_count + 1, 0);
+    for (size_t p = 0; p < budgets.size() && p < s.part_count; ++p) budget_[p + 1] = budgets[p];
+    for (uint32_t t = 0; t < nt; ++t) {
+      const uint32_t* i = &s.mesh.indices[3 * size_t(t)];
+      const Vec3d n = cross(pos_[i[1]] - pos_[i[0]], pos_[i[2]] - pos_[i[0]]);
+      const double len = norm(n);
+      if (len > 0) {
+        const Vec3d u = (1 / len) * n;
+        Quadric q = plane_quadric(u, -dot(u, pos_[i[0]]));
+        for (double& x : q.q) x *= kPlaneWeight;
+        for (int c = 0; c < 3; ++c) quadric_[i[c]] += q;
+      }
+      for (int c = 0; c < 3; ++c) tris_[i[c]].push_back(t);
+      for (uint32_t m : s.sides[t])
+        if (m != 0) ++count_[m];
+    }
+  }
+
+  DecimationStats run() {
+    for (uint32_t v = 0; v < pos_.size(); ++v) push_edges(v, /*higher_only=*/true);
+    DecimationStats stats;
+    while (!heap_.empty()) {
+      const Candidate c = heap_.top();
+      heap_.pop();
+      if (!alive_vertex_[c.remove] || !alive_vertex_[c.keep] ||
+          version_[c.remove] != c.remove_version || version_[c.keep] != c.keep_version)
+        continue;
+      const bool within_error = options_.error_mm > 0 && c.cost <= options_.error_mm;
+      if (!within_error && !has_budget()) break;  // every later candidate costs more
+      if (!within_error && !removes_from_part_over_budget(c.remove, c.keep)) continue;
+      if (!allowed(c)) continue;
+      if (within_error && !keeps_absorbed_points(c)) continue;
+      if (crosses_nearby(c)) continue;
+      apply(c);
+      ++stats.collapses;
+      stats.largest_cost_mm = std::max(stats.largest_cost_mm, c.cost);
+    }
+    compact();
+    return stats;
+  }
+
+ private:
+  bool has_budget() const {
+    return std::any_of(budget_.begin(), budget_.end(), [](int64_t b) { return b > 0; });
+  }
+
+  bool has(uint32_t t, uint32_t v) const {
+    const uint32_t* i = &s_.mesh.indices[3 * size_t(t)];
+    return i[0] == v || i[1] == v || i[2] == v;
+  }
+
+  // The live triangles on edge (a, b).
+  template <class F>
+  void for_edge_triangles(uint32_t a, uint32_t b, F&& f) const {
+    for (uint32_t t : tris_[a])
+      if (alive_tri_[t] && has(t, b)) f(t);
+  }
+
+  // A junction edge: its triangles separate two or more different pairs of materials.
+  bool junction_edge(uint32_t a, uint32_t b) const {
+    bool found = false, junction = false;
+    std::array<uint32_t, 2> first{};
+    for_edge_triangles(a, b, [&](uint32_t t) {
+      if (!found) {
+        first = s_.sides[t];
+        found = true;
+      } else if (!same_interface(s_.sides[t], first)) {
+        junction = true;
+      }
+    });
+    return junction;
+  }
+
+  // The neighbours of v over its live triangles that hold material m (all when m is ~0u),
+  // sorted and unique.
+  std::vector<uint32_t> neighbours(uint32_t v, uint32_t m = ~0u) const {
+    std::vector<uint32_t> out;
+    for (uint32_t t : tris_[v]) {
+      if (!alive_tri_[t]) continue;
+      if (m != ~0u && s_.sides[t][0] != m && s_.sides[t][1] != m) continue;
+      const uint32_t* i = &s_.mesh.indices[3 * size_t(t)];
+      for (int c = 0; c < 3; ++c)
+        if (i[c] != v) out.push_back(i[c]);
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+
+  std::vector<uint32_t> curve_neighbours(uint32_t v) const {
+    std::vector<uint32_t> out;
+    for (uint32_t w : neighbours(v))
+      if (junction_edge(v, w)) out.push_back(w);
+    return out;
+  }
+
+  // The best collapse of edge (a, b), if the roles allow one.
+  std::optional<Candidate> candidate(uint32_t a, uint32_t b) const {
+    std::optional<Candidate> best;
+    auto consider = [&](uint32_t u, uint32_t v) {
+      if (role_[u] == SmoothRole::kFixed) return;
+      Quadric q = quadric_[u];
+      q += quadric_[v];
+      Vec3d p = pos_[v];
+      if (role_[u] == SmoothRole::kCurve) {
+        if (!junction_edge(u, v)) return;
+        if (role_[v] == SmoothRole::kCurve) p = best_on_segment(q, pos_[u], pos_[v]);
+      } else if (role_[v] == SmoothRole::kSheet) {
+        p = best_free(q, pos_[u], pos_[v]);
+      }
+      const Candidate c{cost_mm(q, p), u, v, p, version_[u], version_[v]};
+      if (!best || *best < c) best = c;  // the heap's first: least cost, then ids
+    };
+    if (role_[a] == SmoothRole::kSheet && role_[b] == SmoothRole::kSheet) {
+      consider(std::max(a, b), std::min(a, b));  // one placement, whichever vertex stays
+    } else {
+      consider(a, b);
+      consider(b, a);
+    }
+    return best;
+  }
+
+  static Vec3d best_on_segment(const Quadric& q, Vec3d a, Vec3d b) {
+    // Q(a + t (b - a)) = A t^2 + B t + C; the minimum on [0, 1] or an end.
+    const double q0 = evaluate(q, a), q1 = evaluate(q, b), qh = evaluate(q, 0.5 * (a + b));
+    const double A = 2 * (q0 + q1) - 4 * qh, B = q1 - q0 - A;
+    double t = q0 <= q1 ? 0 : 1;
+    if (A > 0) {
+      const double s = std::clamp(-B / (2 * A), 0.0, 1.0);
+      if (evaluate(q, a + s * (b - a)) < std::min(q0, q1)) t = s;
+    }
+    return a + t * (b - a);
+  }
+
+  static Vec3d best_free(const Quadric& q, Vec3d a, Vec3d b) {
+    const Vec3d mid = 0.5 * (a + b);
+    if (const auto x = optimum(q); x && norm(*x - mid) <= norm(b - a)) return *x;
+    Vec3d best = mid;
+    for (Vec3d p : {a, b})
+      if (evaluate(q, p) < evaluate(q, best)) best = p;
+    return best;
+  }
+
+  void push_edges(uint32_t v, bool higher_only) {
+    for (uint32_t w : neighbours(v)) {
+      if (higher_only && w < v) continue;
+      if (const auto c = candidate(v, w)) heap_.push(*c);
+    }
+  }
+
+  bool removes_from_part_over_budget(uint32_t u, uint32_t v) const {
+    bool over = false;
+    for_edge_triangles(u, v, [&](uint32_t t) {
+      for (uint32_t m : s_.sides[t])
+        if (m != 0 && budget_[m] > 0 && count_[m] > budget_[m]) over = true;
+    });
+    return over;
+  }
+
+  bool allowed(const Candidate& c) const {
+    const uint32_t u = c.remove, v = c.keep;
+    // Triangle counts: no part below the minimum.
+    std::vector<uint32_t> removed;
+    for_edge_triangles(u, v, [&](uint32_t t) { removed.push_back(t); });
+    if (removed.empty()) return false;
+    for (size_t m = 1; m < count_.size(); ++m) {
+      int64_t lost = 0;
+      for (uint32_t t : removed) lost += (s_.sides[t][0] == m) + (s_.sides[t][1] == m);
+      if (lost > 0 && count_[m] - lost < kMinPartTriangles) return false;
+    }
+    // Link conditions: on the whole surface and in every part's shell.
+    auto apexes = [&](uint32_t m) {
+      std::vector<uint32_t> out;
+      for (uint32_t t : removed) {
+        if (m != ~0u && s_.sides[t][0] != m && s_.sides[t][1] != m) continue;
+        const uint32_t* i = &s_.mesh.indices[3 * size_t(t)];
+        for (int k = 0; k < 3; ++k)
+          if (i[k] != u && i[k] != v) out.push_back(i[k]);
+      }
+      std::sort(out.begin(), out.end());
+      out.erase(std::unique(out.begin(), out.end()), out.end());
+      return out;
+    };
+    auto link_holds = [&](uint32_t m) {
+      const std::vector<uint32_t> nu = neighbours(u, m), nv = neighbours(v, m);
+      if (nu.empty() || nv.empty()) return true;  // not both in this shell
+      std::vector<uint32_t> common;
+      std::set_intersection(nu.begin(), nu.end(), nv.begin(), nv.end(), std::back_inserter(common));
+      const std::vector<uint32_t> ap = apexes(m);
+      if (ap.empty()) return false;  // both in the shell, no edge of it between them
+      return common == ap;
+    };
+    if (!link_holds(~0u)) return false;
+    std::vector<uint32_t> materials;
+    for (uint32_t x : {u, v})
+      for (uint32_t t : tris_[x])
+        if (alive_tri_[t])
+          for (uint32_t m : s_.sides[t])
+            if (m != 0) materials.push_back(m);
+    std::sort(materials.begin(), materials.end());
+    materials.erase(std::unique(materials.begin(), materials.end()), materials.end());
+    for (uint32_t m : materials)
+      if (!link_holds(m)) return false;
+    // A curve collapse must not close its curve into a loop of two edges.
+    if (role_[u] == SmoothRole::kCurve) {
+      const std::vector<uint32_t> cu = curve_neighbours(u), cv = curve_neighbours(v);
+      for (uint32_t w : cu)
+        if (w != v && std::find(cv.begin(), cv.end(), w) != cv.end()) return false;
+    }
+    // Geometry: no turned, degenerate or new sliver triangle.
+    double worst_before = 1, worst_after = 1;
+    for (uint32_t t : removed) worst_before = std::min(worst_before, rho(t));
+    for (uint32_t x : {u, v}) {
+      for (uint32_t t : tris_[x]) {
+        if (!alive_tri_[t] || (has(t, u) && has(t, v))) continue;
+        const uint32_t* i = &s_.mesh.indices[3 * size_t(t)];
+        Vec3d p[3];
+        for (int k = 0; k < 3; ++k) p[k] = i[k] == u || i[k] == v ? c.position : pos_[i[k]];
+        const Vec3d n0 = cross(pos_[i[1]] - pos_[i[0]], pos_[i[2]] - pos_[i[0]]);
+        const Vec3d n1 = cross(p[1] - p[0], p[2] - p[0]);
+        const double l0 = norm(n0), l1 = norm(n1);
+        if (!(l1 > 1e-12 * (l0 + 1e-30))) return false;
+        if (dot(n0, n1) < kMaxNormalTurnCos * l0 * l1) return false;
+        worst_before = std::min(worst_before, rho(t));
+        worst_after = std::min(worst_after, radii_ratio(p[0], p[1], p[2]));
+      }
+    }
+    if (worst_after < kSliver && worst_after < worst_before) return false;
+    return true;
+  }
+
+  // Every original vertex the two vertices stand for lies within error_mm of the triangles
+  // around the merged vertex: the quadric bounds distances to planes, this one to the triangles.
+  bool keeps_absorbed_points(const Candidate& c) const {
+    const uint32_t u = c.remove, v = c.keep;
+    std::vector<std::array<Vec3d, 3>> fan;
+    for (uint32_t x : {u, v})
+      for (uint32_t t : tris_[x]) {
+        if (!alive_tri_[t] || (x == u && has(t, v))) continue;
+        if (x == v && has(t, u)) continue;
+        const uint32_t* i = &s_.mesh.indices[3 * size_t(t)];
+        std::array<Vec3d, 3> p;
+        for (int k = 0; k < 3; ++k) p[size_t(k)] = i[k] == u || i[k] == v ? c.position : pos_[i[k]];
+        fan.push_back(p);
+      }
+    const double limit2 = options_.error_mm * options_.error_mm;
+    for (uint32_t x : {u, v})
+      for (uint32_t o : absorbed_[x]) {
+        const Vec3d q = original_[o];
+        double best = std::numeric_limits<double>::infinity();
+        for (const auto& p : fan) {
+          const Vec3d d = closest_point_on_triangle(q, p[0], p[1], p[2]) - q;
+          best = std::min(best, dot(d, d));
+          if (best <= limit2) break;
+        }
+        if (best > limit2) return false;
+      }
+    return true;
+  }
+
+  // Near where interfaces meet (the triangles within two rings of the edge are of more than one
+  // interface), whether a triangle around the merged vertex would cross one of those triangles:
+  // a sheet folded through another part's.
+  bool crosses_nearby(const Candidate& c) const {
+    const uint32_t u = c.remove, v = c.keep;
+    std::vector<uint32_t> ring;
+    for (uint32_t x : {u, v})
+      for (uint32_t w : neighbours(x))
+        for (uint32_t t : tris_[w])
+          if (alive_tri_[t] && !(has(t, u) && has(t, v))) ring.push_back(t);
+    std::sort(ring.begin(), ring.end());
+    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+    bool mixed = false;
+    for (uint32_t t : ring) mixed = mixed || !same_interface(s_.sides[t], s_.sides[ring[0]]);
+    if (!mixed) return false;
+    auto corner = [&](uint32_t i) { return i == u || i == v ? c.position : pos_[i]; };
+    auto id = [&](uint32_t i) { return i == u ? v : i; };
+    for (uint32_t f : ring) {
+      const uint32_t* fi = &s_.mesh.indices[3 * size_t(f)];
+      if (!has(f, u) && !has(f, v)) continue;  // not around the merged vertex
+      const uint32_t fa = id(fi[0]), fb = id(fi[1]), fc = id(fi[2]);
+      const Vec3d p[3] = {corner(fi[0]), corner(fi[1]), corner(fi[2])};
+      for (uint32_t r : ring) {
+        const uint32_t* ri = &s_.mesh.indices[3 * size_t(r)];
+        bool shares = false;
+        for (int k = 0; k < 3; ++k) {
+          const uint32_t x = id(ri[k]);
+          shares = shares || x == fa || x == fb || x == fc;
+        }
+        if (shares) continue;
+        const Vec3d q[3] = {corner(ri[0]), corner(ri[1]), corner(ri[2])};
+        for (int k = 0; k < 3; ++k) {
+          if (segment_crosses_triangle(p[k], p[(k + 1) % 3], q[0], q[1], q[2]) ||
+              segment_crosses_triangle(q[k], q[(k + 1) % 3], p[0], p[1], p[2]))
+            return true;
+        }
+      }
+    }
+    return false;
+  }
+
+  double rho(uint32_t t) const {
+    const uint32_t* i = &s_.mesh.indices[3 * size_t(t)];
+    return radii_ratio(pos_[i[0]], pos_[i[1]], pos_[i[2]]);
+  }
+
+  void apply(const Candidate& c) {
+    const uint32_t u = c.remove, v = c.keep;
+    for (uint32_t t : tris_[u]) {
+      if (!alive_tri_[t]) continue;
+      uint32_t* i = &s_.mesh.indices[3 * size_t(t)];
+      if (has(t, v)) {
+        alive_tri_[t] = 0;
+        for (uint32_t m : s_.sides[t])
+          if (m != 0) --count_[m];
+        continue;
+      }
+      for (int k = 0; k < 3; ++k)
+        if (i[k] == u) i[k] = v;
+      tris_[v].push_back(t);
+    }
+    std::vector<uint32_t>().swap(tris_[u]);
+    alive_vertex_[u] = 0;
+    ++version_[u];
+    ++version_[v];
+    pos_[v] = c.position;
+    quadric_[v] += quadric_[u];
+    if (absorbed_[v].size() < absorbed_[u].size()) absorbed_[v].swap(absorbed_[u]);
+    absorbed_[v].insert(absorbed_[v].end(), absorbed_[u].begin(), absorbed_[u].end());
+    std::vector<uint32_t>().swap(absorbed_[u]);
+    junction_[v] |= junction_[u];  // where the shell may touch itself, v now stands
+    // Dead triangles leave the lists of the vertices around.
+    for (uint32_t w : neighbours(v)) prune(w);
+    prune(v);
+    push_edges(v, false);
+  }
+
+  void prune(uint32_t v) {
+    auto& list = tris_[v];
+    list.erase(std::remove_if(list.begin(), list.end(), [&](uint32_t t) { return !alive_tri_[t]; }),
+               list.end());
+  }
+
+  void compact() {
+    const size_t nv = pos_.size(), nt = s_.sides.size();
+    std::vector<uint32_t> id(nv, ~0u);
+    std::vector<char> used(nv, 0);
+    for (size_t t = 0; t < nt; ++t)
+      if (alive_tri_[t])
+        for (int k = 0; k < 3; ++k) used[s_.mesh.indices[3 * t + size_t(k)]] = 1;
+    std::vector<Vec3f> positions;
+    for (size_t v = 0; v < nv; ++v)
+      if (used[v]) {
+        id[v] = static_cast<uint32_t>(positions.size());
+        positions.push_back(to_float(pos_[v]));
+      }
+    std::vector<uint32_t> indices;
+    std::vector<std::array<uint32_t, 2>> sides;
+    for (size_t t = 0; t < nt; ++t) {
+      if (!alive_tri_[t]) continue;
+      for (int k = 0; k < 3; ++k) indices.push_back(id[s_.mesh.indices[3 * t + size_t(k)]]);
+      sides.push_back(s_.sides[t]);
+    }
+    std::vector<uint32_t> junction;
+    for (size_t v = 0; v < nv; ++v)
+      if (junction_[v] && id[v] != ~0u) junction.push_back(id[v]);
+    s_.mesh.positions = std::move(positions);
+    s_.mesh.indices = std::move(indices);
+    s_.mesh.normals.clear();
+    s_.mesh.colors.clear();
+    s_.sides = std::move(sides);
+    s_.junction_vertices = std::move(junction);
+  }
+
+  LabelledSurface& s_;
+  const DecimateOptions& options_;
+  std::vector<Vec3d> pos_;
+  std::vector<SmoothRole> role_;
+  std::vector<char> junction_;  // the surface's junction_vertices and the vertices they merged into
+  std::vector<Quadric> quadric_;
+  std::vector<Vec3d> original_;                  // the positions before decimation
+  std::vector<std::vector<uint32_t>> absorbed_;  // the original vertices each vertex stands for
+  std::vector<std::vector<uint32_t>> tris_;
+  std::vector<char> alive_tri_, alive_vertex_;
+  std::vector<uint32_t> version_;
+  std::vector<int64_t> count_, budget_;  // by material
+  std::priority_queue<Candidate> heap_;
+};
+
+// The area of a mesh's triangles.
+double mesh_area(const TriMesh& m) {
+  double a = 0;
+  for (size_t t = 0; t < m.triangle_count(); ++t) {
+    const Vec3d p = to_double(m.positions[m.indices[3 * t]]);
+    a += 0.5 * norm(cross(to_double(m.positions[m.indices[3 * t + 1]]) - p,
+                          to_double(m.positions[m.indices[3 * t + 2]]) - p));
+  }
+  return a;
+}
+
+// The largest collapse error, for the flips' tolerance: a flip may move the surface by a quarter
+// of it.
+constexpr double kFlipToleranceShare = 0.25;
+
+}  // namespace
+
+std::optional<DecimateOptionsProblem> decimate_options_problem(const DecimateOptions& o) {
+  if (!(o.error_mm >= 0) || !std::isfinite(o.error_mm))
+    return DecimateOptionsProblem{"decimate-error", "must be a non-negative number of millimetres"};
+  if (o.max_triangles < 0)
+    return DecimateOptionsProblem{"max-triangles", "must not be negative (0: no budget)"};
+  if (o.max_triangles_per_part < 0)
+    return DecimateOptionsProblem{"max-triangles-per-part", "must not be negative (0: no budget)"};
+  return std::nullopt;
+}
+
+std::vector<int64_t> part_triangle_budgets(const std::vector<double>& areas,
+                                           const DecimateOptions& o) {
+  const double total = std::accumulate(areas.begin(), areas.end(), 0.0);
+  std::vector<int64_t> out(areas.size(), 0);
+  for (size_t p = 0; p < areas.size(); ++p) {
+    int64_t b = 0;
+    if (o.max_triangles > 0 && total > 0) {
+      // Rounded down, so the parts' budgets add up to at most the scene's.
+      b = std::max<int64_t>(1, int64_t(std::floor(double(o.max_triangles) * areas[p] / total)));
+    }
+    if (o.max_triangles_per_part > 0) b = b > 0 ? std::min(b, o.max_triangles_per_part)
+                                                : o.max_triangles_per_part;
+    out[p] = b;
+  }
+  return out;
+}
+
+DecimationStats decimate_surface(LabelledSurface& surface, const DecimateOptions& options,
+                                 std::span<const int64_t> budgets) {
+  if (!options.active() || surface.sides.empty()) return {};
+  DecimationStats stats = Collapser(surface, options, budgets).run();
+  const double tolerance =
+      kFlipToleranceShare * std::min(stats.largest_cost_mm,
+                                     options.error_mm > 0 ? options.error_mm : stats.largest_cost_mm);
+  stats.flips = improve_by_edge_flips(surface, tolerance);
+  return stats;
+}
+
+DecimationStats decimate_scene(Scene& scene, const DecimateOptions& options) {
+  if (!options.active()) return {};
+  std::vector<double> areas;
+  for (const Part& part : scene.parts) areas.push_back(mesh_area(part.mesh));
+  const std::vector<int64_t> budgets = part_triangle_budgets(areas, options);
+  if (scene.surface) {
+    const DecimationStats stats = decimate_surface(*scene.surface, options, budgets);
+    std::vector<TriMesh> shells = part_shells(*scene.surface);
+    tbb::parallel_for(size_t{0}, scene.parts.size(), [&](size_t p) {
+      compute_vertex_normals(shells[p]);
+      scene.parts[p].mesh = std::move(shells[p]);
+    });
+    return stats;
+  }
+  std::vector<DecimationStats> each(scene.parts.size());
+  tbb::parallel_for(size_t{0}, scene.parts.size(), [&](size_t p) {
+    TriMesh& mesh = scene.parts[p].mesh;
+    if (mesh.empty()) return;
+    LabelledSurface one;
+    one.mesh.positions = std::move(mesh.positions);
+    one.mesh.indices = std::move(mesh.indices);
+    one.sides.assign(one.mesh.indices.size() / 3, {1, 0});
+    one.part_count = 1;
+    const int64_t budget[1] = {budgets[p]};
+    each[p] = decimate_surface(one, options, budget);
+    mesh = TriMesh{};
+    mesh.positions = std::move(one.mesh.positions);
+    mesh.indices = std::move(one.mesh.indices);
+    compute_vertex_normals(mesh);
+  });
+  DecimationStats stats;
+  for (const DecimationStats& s : each) {
+    stats.collapses += s.collapses;
+    stats.flips += s.flips;
+    stats.largest_cost_mm = std::max(stats.largest_cost_mm, s.largest_cost_mm);
+  }
+  return stats;
+}
+
+}  // namespace segmesh
