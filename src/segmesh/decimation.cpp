@@ -64,6 +64,7 @@ class Collapser {
     count_.assign(s.part_count + 1, 0);
     budget_.assign(s.part_count + 1, 0);
     for (size_t p = 0; p < budgets.size() && p < s.part_count; ++p) budget_[p + 1] = budgets[p];
+    has_budget_ = std::any_of(budget_.begin(), budget_.end(), [](int64_t b) { return b > 0; });
     for (uint32_t t = 0; t < nt; ++t) {
       const uint32_t* i = &s.mesh.indices[3 * size_t(t)];
       const Vec3d n = cross(pos_[i[1]] - pos_[i[0]], pos_[i[2]] - pos_[i[0]]);
@@ -90,7 +91,7 @@ class Collapser {
           version_[c.remove] != c.remove_version || version_[c.keep] != c.keep_version)
         continue;
       const bool within_error = options_.error_mm > 0 && c.cost <= options_.error_mm;
-      if (!within_error && !has_budget()) break;  // every later candidate costs more
+      if (!within_error && !has_budget_) break;  // every later candidate costs more
       if (!within_error && !removes_from_part_over_budget(c.remove, c.keep)) continue;
       if (!allowed(c)) continue;
       if (within_error && !keeps_absorbed_points(c)) continue;
@@ -104,9 +105,6 @@ class Collapser {
   }
 
  private:
-  bool has_budget() const {
-    return std::any_of(budget_.begin(), budget_.end(), [](int64_t b) { return b > 0; });
-  }
 
   bool has(uint32_t t, uint32_t v) const {
     const uint32_t* i = &s_.mesh.indices[3 * size_t(t)];
@@ -208,7 +206,9 @@ class Collapser {
   void push_edges(uint32_t v, bool higher_only) {
     for (uint32_t w : neighbours(v)) {
       if (higher_only && w < v) continue;
-      if (const auto c = candidate(v, w)) heap_.push(*c);
+      const auto c = candidate(v, w);
+      // Without a budget a collapse above the error bound is never made: not worth a heap entry.
+      if (c && (has_budget_ || c->cost <= options_.error_mm)) heap_.push(*c);
     }
   }
 
@@ -327,11 +327,15 @@ class Collapser {
   // a sheet folded through another part's.
   bool crosses_nearby(const Candidate& c) const {
     const uint32_t u = c.remove, v = c.keep;
+    // Sheet vertices all around: every triangle within two rings is of their one interface.
+    std::vector<uint32_t> near = neighbours(u), nv = neighbours(v);
+    near.insert(near.end(), nv.begin(), nv.end());
+    if (std::all_of(near.begin(), near.end(), [&](uint32_t w) { return role_[w] == SmoothRole::kSheet; }))
+      return false;
     std::vector<uint32_t> ring;
-    for (uint32_t x : {u, v})
-      for (uint32_t w : neighbours(x))
-        for (uint32_t t : tris_[w])
-          if (alive_tri_[t] && !(has(t, u) && has(t, v))) ring.push_back(t);
+    for (uint32_t w : near)
+      for (uint32_t t : tris_[w])
+        if (alive_tri_[t] && !(has(t, u) && has(t, v))) ring.push_back(t);
     std::sort(ring.begin(), ring.end());
     ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
     bool mixed = false;
@@ -448,6 +452,7 @@ class Collapser {
   std::vector<char> alive_tri_, alive_vertex_;
   std::vector<uint32_t> version_;
   std::vector<int64_t> count_, budget_;  // by material
+  bool has_budget_ = false;
   std::priority_queue<Candidate> heap_;
 };
 
