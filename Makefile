@@ -58,8 +58,8 @@ SANITIZER_ENV := ASAN_OPTIONS=detect_leaks=1:$(ASAN_CHECKS) \
 	LSAN_OPTIONS=suppressions=$(CURDIR)/fuzz/lsan.supp:print_suppressions=0 \
 	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 
-# A failing test is run once more (--repeat until-pass:2; the first attempt's output stays in the
-# log): LeakSanitizer's own stop-the-world tracer now and then crashes at process exit ("Tracer
+# A failing test is run up to twice more (--repeat until-pass:3; earlier attempts' output stays in
+# the log): LeakSanitizer's own stop-the-world tracer now and then crashes at process exit ("Tracer
 # caught signal 11 ... LeakSanitizer has encountered a fatal error", google/sanitizers#1353) after
 # the test itself has passed, seen in the renderer's tests while Mesa's threads shut down. A real
 # failure fails both times.
@@ -67,7 +67,7 @@ SANITIZER_ENV := ASAN_OPTIONS=detect_leaks=1:$(ASAN_CHECKS) \
 # LeakSanitizer looks, leave allocations whose stacks are "<unknown module>" and cannot be named in
 # a suppression (docs/ROBUSTNESS.md); every other sanitizer check stays on for them.
 VIEWER_SMOKE := ViewerSmoke
-SANITIZER_CTEST = ctest --test-dir $(ASAN_BUILD_DIR) --output-on-failure -j $(JOBS) --repeat until-pass:2
+SANITIZER_CTEST = ctest --test-dir $(ASAN_BUILD_DIR) --output-on-failure -j $(JOBS) --repeat until-pass:3
 sanitize: deps
 	@cmake -S . -B $(ASAN_BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 		-DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
