@@ -110,6 +110,10 @@ void ViewerApp::draw_meshing_section() {
   char labels[256];
   std::snprintf(labels, sizeof labels, "%s", meshing_.labels.c_str());
   if (ImGui::InputTextWithHint("labels", "all, or e.g. 1,2", labels, sizeof labels)) meshing_.labels = labels;
+  ImGui::InputDouble("decimate error (mm)", &meshing_.decimate_error_mm, 0.05, 0.5, "%.2f");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("0: no decimation; else the largest distance allowed");
+  ImGui::InputInt("max triangles", &meshing_.max_triangles, 1000, 10000);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("0: no budget; else the whole scene's triangle budget");
   ImGui::BeginDisabled(!state_.image);
   if (ImGui::Button("Create mesh")) create_mesh();
   ImGui::EndDisabled();
@@ -119,6 +123,7 @@ void ViewerApp::draw_meshing_section() {
   }
   ImGui::EndDisabled();
   if (!state_.surfaces.empty()) ImGui::TextWrapped("%s", state_.surfaces.c_str());
+  if (!state_.scene.parts.empty()) ImGui::Text("%s", viewer::triangle_count_text(state_.scene).c_str());
   if (status.running) {
     char overlay[128];
     std::snprintf(overlay, sizeof overlay, "%s %.0f%%", status.step.c_str(), 100 * status.fraction);

@@ -9,6 +9,8 @@ MeshingOptions meshing_request(const MeshingSettings& settings) {
   options.normals = settings.normals;
   options.smooth.method = settings.smooth;
   options.smooth.iterations = settings.iterations;
+  options.decimate.error_mm = settings.decimate_error_mm;
+  options.decimate.max_triangles = settings.max_triangles;
   // The command line's parser, so the field and `--labels` take the same text.
   find_meshing_option("labels")->set(options, settings.labels);
   resolve_meshing_options(options);  // refuses what would not run, before any work starts

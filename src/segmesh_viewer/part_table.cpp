@@ -37,6 +37,13 @@ PartTableRow part_table_row(const Scene& scene, const std::vector<PartStats>& st
   return row;
 }
 
+std::string triangle_count_text(const Scene& scene) {
+  size_t triangles = 0;
+  for (const Part& part : scene.parts) triangles += part.mesh.triangle_count();
+  return std::to_string(triangles) + " triangles in " + std::to_string(scene.parts.size()) +
+         (scene.parts.size() == 1 ? " part" : " parts");
+}
+
 std::vector<PartTableRow> part_table(const Scene& scene, const std::vector<PartStats>& stats) {
   std::vector<PartTableRow> rows;
   rows.reserve(scene.parts.size());

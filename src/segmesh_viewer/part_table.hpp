@@ -31,6 +31,10 @@ std::string contact_text(const Scene& scene, const ContactStats& contact);
 // The row of part `index` (its name, with every number empty when `stats` has no entry for it).
 PartTableRow part_table_row(const Scene& scene, const std::vector<PartStats>& stats, size_t index);
 
+// The scene's size under the meshing panel, so a decimation setting shows what it gave:
+// "45236 triangles in 10 parts".
+std::string triangle_count_text(const Scene& scene);
+
 // Every part's row, in scene order.
 std::vector<PartTableRow> part_table(const Scene& scene, const std::vector<PartStats>& stats);
 

@@ -56,6 +56,26 @@ double area_in(const std::string& line, const std::string& other) {
   return std::stod(line.substr(head.size(), end - head.size()));
 }
 
+// The panel's triangle budget reaches build_scene: the two boxes, decimated to a budget, keep
+// their contact and stay within it, and the panel's count line says so.
+TEST(PartTable, ATriangleBudgetFromThePanelDecimatesTheScene) {
+  const ViewerState full = meshed(two_touching_boxes(), MeshingSettings{});
+  size_t before = 0;
+  for (const Part& p : full.scene.parts) before += p.mesh.triangle_count();
+  MeshingSettings settings;
+  settings.max_triangles = 400;
+  const ViewerState state = meshed(two_touching_boxes(), settings);
+  ASSERT_EQ(state.scene.parts.size(), 2u);
+  size_t after = 0;
+  for (const Part& p : state.scene.parts) after += p.mesh.triangle_count();
+  EXPECT_GT(before, 2 * after);
+  EXPECT_LE(after, 400u);
+  EXPECT_EQ(triangle_count_text(state.scene), std::to_string(after) + " triangles in 2 parts");
+  const std::vector<PartTableRow> rows = part_table(state.scene, state.stats);
+  ASSERT_EQ(rows[0].contacts.size(), 1u);
+  EXPECT_NEAR(area_in(rows[0].contacts[0], "label2_1"), kContactArea, 0.01 * kContactArea);
+}
+
 TEST(PartTable, TwoTouchingBoxesListTheirContactWithItsArea) {
   const ViewerState state = meshed(two_touching_boxes(), MeshingSettings{});
   ASSERT_EQ(state.scene.parts.size(), 2u);

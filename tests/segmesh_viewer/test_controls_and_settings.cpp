@@ -102,6 +102,8 @@ TEST(MeshingSettings, PanelFieldsBecomeOptions) {
   s.iterations = 2;
   s.labels = "2,1,7";  // as `--labels` takes them
   s.surfaces = Surfaces::independent;
+  s.decimate_error_mm = 0.2;
+  s.max_triangles = 5000;
   const MeshingOptions o = meshing_options(s);
   EXPECT_EQ(o.method, Method::dual_contouring);
   EXPECT_EQ(o.normals, NormalMethod::sobel);
@@ -109,6 +111,9 @@ TEST(MeshingSettings, PanelFieldsBecomeOptions) {
   EXPECT_EQ(o.smooth.iterations, 2);
   EXPECT_EQ(o.labels, (std::vector<int32_t>{2, 1, 7}));
   EXPECT_EQ(o.surfaces, Surfaces::independent);
+  EXPECT_EQ(o.decimate.error_mm, 0.2);
+  EXPECT_EQ(o.decimate.max_triangles, 5000);
+  EXPECT_FALSE(MeshingSettings{}.decimate_error_mm > 0 || MeshingSettings{}.max_triangles > 0);
 }
 
 TEST(MeshingSettings, SurfacesAreAutomaticUntilResolved) {
@@ -150,6 +155,18 @@ TEST(MeshingSettings, LabelsAreReadAsTheCommandLineReadsThem) {
   MeshingSettings s;
   s.iterations = -1;
   EXPECT_THROW(meshing_options(s), Error);
+  // Decimation fields out of range: the command line's messages.
+  MeshingSettings d;
+  d.decimate_error_mm = -0.5;
+  EXPECT_THROW(meshing_request(d), Error);
+  d.decimate_error_mm = 0;
+  d.max_triangles = -5;
+  try {
+    meshing_request(d);
+    ADD_FAILURE() << "a negative budget was taken";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--max-triangles"), std::string::npos) << e.what();
+  }
 }
 
 TEST(ClipSettings, ThePlaneCrossesTheChosenAxisAtTheFraction) {
