@@ -80,6 +80,23 @@ TEST(RenderCli, VolumeToPngOfTheRequestedSizeWithTheImplantRedUnlessHidden) {
       dir, {"phantom.nii.gz", "view.png", "hidden.png", "no_plate.png", "close.png"}));
 }
 
+// render takes the decimation options of `mesh` (the one options layer): the implant decimated to
+// a budget is drawn with at most that many triangles, and is still there in red.
+TEST(RenderCli, DrawsTheSceneDecimatedToATriangleBudget) {
+  const fs::path dir = test::scratch_dir("cli_render_decimated");
+  const fs::path input = phantom(dir);
+  const auto r = run_segmesh("render " + q(input) + " -o " + q(dir / "implant.png") +
+                             " --view anterior --size 160,320 --labels 2 --max-triangles 5000");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const size_t at = r.out.find(" triangles drawn");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  const size_t from = r.out.rfind(' ', at - 1) + 1;
+  const long drawn = std::stol(r.out.substr(from, at - from));
+  EXPECT_GT(drawn, 1000);
+  EXPECT_LE(drawn, 5000);
+  EXPECT_GT(count(read_png(dir / "implant.png"), red), 100);
+}
+
 TEST(RenderCli, AmbientOcclusionQualityColoursAndClippingChangeThePicture) {
   const fs::path dir = test::scratch_dir("cli_render_options");
   const fs::path input = phantom(dir);
