@@ -3,11 +3,14 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <optional>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "segmesh/detail/ordered_triangle_tree.hpp"
 #include "segmesh/moved_mesh_deviation.hpp"
@@ -33,8 +36,37 @@ PartMeasures measure_part(const TriMesh& mesh, bool quality, const std::vector<V
 
 namespace {
 
+// A triangle of the mesh at each vertex position (the last one met), keyed by the position's bits.
+struct PositionKey {
+  std::array<uint32_t, 3> bits;
+  bool operator==(const PositionKey&) const = default;
+};
+struct PositionHash {
+  size_t operator()(const PositionKey& k) const {
+    uint64_t h = (uint64_t{k.bits[0]} * 0x9E3779B97F4A7C15ull) ^ k.bits[1];
+    h = (h * 0xBF58476D1CE4E5B9ull) ^ k.bits[2];
+    return size_t(h * 0x94D049BB133111EBull >> 17);
+  }
+};
+PositionKey key_of(const Vec3f& v) {
+  PositionKey k;
+  std::memcpy(k.bits.data(), &v, sizeof k.bits);
+  return k;
+}
+using TriangleAt = std::unordered_map<PositionKey, uint32_t, PositionHash>;
+TriangleAt triangle_at(const TriMesh& m) {
+  TriangleAt at;
+  at.reserve(m.positions.size());
+  for (size_t t = 0; t < m.triangle_count(); ++t)
+    for (int k = 0; k < 3; ++k) at[key_of(m.positions[m.indices[3 * t + size_t(k)]])] = uint32_t(t);
+  return at;
+}
+
 // The contacts of the scene's labelled surface: areas from part_contacts, and for every contact
-// vertex the exact distance to both parts' shells (a tree on each shell's own order).
+// vertex the exact distance to both parts' shells (a tree on each shell's own order). The search
+// starts at a shell triangle with a vertex at the contact vertex's position, where there is one
+// (there always is when the shells were cut from the surface as it is): distance 0 ends it there;
+// elsewhere (a shell moved or written apart) it is the full search.
 std::vector<ContactMeasures> measure_contacts(const Scene& scene) {
   const LabelledSurface& surface = *scene.surface;
   std::vector<ContactMeasures> out;
@@ -53,22 +85,35 @@ std::vector<ContactMeasures> measure_contacts(const Scene& scene) {
     for (int k = 0; k < 3; ++k) v.push_back(surface.mesh.indices[3 * t + size_t(k)]);
   }
   std::vector<std::optional<OrderedTriangleTree>> shells(scene.parts.size());
+  std::vector<TriangleAt> starts(scene.parts.size());
+  std::vector<size_t> touching;
   for (const ContactMeasures& c : out)
-    for (size_t p : {c.a, c.b})
-      if (!shells[p] && !scene.parts[p].mesh.empty()) {
-        const TriMesh& m = scene.parts[p].mesh;
-        shells[p].emplace(m.positions.data(), m.indices.data(), m.triangle_count());
-      }
+    for (size_t p : {c.a, c.b}) touching.push_back(p);
+  std::sort(touching.begin(), touching.end());
+  touching.erase(std::unique(touching.begin(), touching.end()), touching.end());
+  tbb::parallel_for(size_t{0}, touching.size(), [&](size_t i) {
+    const TriMesh& m = scene.parts[touching[i]].mesh;
+    if (m.empty()) return;
+    shells[touching[i]].emplace(m.positions.data(), m.indices.data(), m.triangle_count());
+    starts[touching[i]] = triangle_at(m);
+  });
   tbb::parallel_for(size_t{0}, out.size(), [&](size_t i) {
     std::vector<uint32_t>& v = vertices[i];
     std::sort(v.begin(), v.end());
     v.erase(std::unique(v.begin(), v.end()), v.end());
     double gap2 = 0;
     for (uint32_t x : v) {
-      const Vec3d p = to_double(surface.mesh.positions[x]);
+      const Vec3f& position = surface.mesh.positions[x];
+      const Vec3d p = to_double(position);
       for (size_t part : {out[i].a, out[i].b}) {
-        gap2 = std::max(gap2, shells[part] ? shells[part]->nearest2(p)
-                                           : std::numeric_limits<double>::infinity());
+        if (!shells[part]) {
+          gap2 = std::numeric_limits<double>::infinity();
+          continue;
+        }
+        const auto at = starts[part].find(key_of(position));
+        const size_t start = at == starts[part].end() ? OrderedTriangleTree::kNoStart : at->second;
+        gap2 = std::max(
+            gap2, shells[part]->nearest2(p, std::numeric_limits<double>::infinity(), start, 0));
       }
     }
     out[i].max_gap_mm = std::sqrt(gap2);
@@ -78,18 +123,19 @@ std::vector<ContactMeasures> measure_contacts(const Scene& scene) {
 
 }  // namespace
 
-SceneMeasures measure_scene(const Scene& scene, const MeasureRequest& request,
-                            Progress& progress) {
+SceneMeasures measure_scene(const Scene& scene, const MeasureRequest& request, Progress& progress) {
   const size_t n = scene.parts.size();
   const ExtractedPositions* extracted = request.extracted;
   const bool decimated = extracted && !extracted->undecimated.empty();
   if (extracted) {
-    bool matches = extracted->parts.size() == n && (!decimated || extracted->undecimated.size() == n);
+    bool matches =
+        extracted->parts.size() == n && (!decimated || extracted->undecimated.size() == n);
     for (size_t p = 0; matches && p < n; ++p)
       matches = extracted->parts[p].size() ==
                 (decimated ? extracted->undecimated[p] : scene.parts[p].mesh).positions.size();
     if (!matches) {
-      throw std::invalid_argument("measure_scene: the extracted positions are not the scene's parts");
+      throw std::invalid_argument(
+          "measure_scene: the extracted positions are not the scene's parts");
     }
   }
   progress.step("measuring");
