@@ -27,10 +27,7 @@ namespace {
 
 // A ball of radius 12 voxels (0.5 mm voxels) with a smaller ball (label 2) set into its side.
 LabelVolume ball(bool with_inlay) {
-  LabelVolume v;
-  v.grid.dims = {40, 40, 40};
-  v.grid.spacing = {0.5, 0.5, 0.5};
-  v.voxels.assign(v.grid.voxel_count(), 0);
+  LabelVolume v = test::blank_labels({40, 40, 40}, {0.5, 0.5, 0.5});
   for (int64_t k = 0; k < 40; ++k)
     for (int64_t j = 0; j < 40; ++j)
       for (int64_t i = 0; i < 40; ++i) {

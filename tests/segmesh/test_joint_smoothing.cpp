@@ -28,10 +28,7 @@ namespace {
 // A 40 x 40 x 40 voxel bone block (label 1, 0.5 mm voxels) with a screw (label 2): a shaft of
 // radius 3 voxels along z through most of the block and a head above it, in the background.
 LabelVolume screw_in_block() {
-  LabelVolume v;
-  v.grid.dims = {48, 48, 56};
-  v.grid.spacing = {0.5, 0.5, 0.5};
-  v.voxels.assign(v.grid.voxel_count(), 0);
+  LabelVolume v = test::blank_labels({48, 48, 56}, {0.5, 0.5, 0.5});
   for (int64_t k = 0; k < 56; ++k)
     for (int64_t j = 0; j < 48; ++j)
       for (int64_t i = 0; i < 48; ++i) {
@@ -203,10 +200,7 @@ TEST(JointSmoothing, ContactsAreMeasuredOnTheShellsAsWritten) {
 // Parts that touch nowhere: build_scene meshes them one by one (no labelled surface), and that
 // is what the one surface would give too: the same shells, smoothed the same way.
 TEST(JointSmoothing, PartsThatDoNotTouchGiveTheIndependentSurfaces) {
-  LabelVolume v;
-  v.grid.dims = {40, 24, 24};
-  v.grid.spacing = {0.5, 0.5, 1.0};
-  v.voxels.assign(v.grid.voxel_count(), 0);
+  LabelVolume v = test::blank_labels({40, 24, 24}, {0.5, 0.5, 1.0});
   for (int64_t k = 4; k < 20; ++k)
     for (int64_t j = 4; j < 20; ++j)
       for (int64_t i = 3; i < 36; ++i) {

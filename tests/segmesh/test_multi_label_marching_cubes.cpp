@@ -10,6 +10,7 @@
 #include "segmesh/marching_cubes.hpp"
 #include "segmesh/mesh_measures.hpp"
 #include "segmesh/phantom.hpp"
+#include "support/test_fields.hpp"
 
 namespace segmesh {
 namespace {
@@ -28,13 +29,6 @@ Extracted extract(const LabelVolume& v, int connectivity = 26) {
   x.surface = multi_label_marching_cubes(v.grid, x.components, x.parts, connectivity);
   x.shells = part_shells(x.surface);
   return x;
-}
-
-LabelVolume blank(std::array<int64_t, 3> dims) {
-  LabelVolume v;
-  v.grid.dims = dims;
-  v.voxels.assign(v.grid.voxel_count(), 0);
-  return v;
 }
 
 // The volume inside the surface's outer boundary (its triangles against the background): what the
@@ -68,7 +62,7 @@ void expect_closed_shells(const Extracted& x, const std::string& what) {
 }
 
 TEST(MultiLabelMarchingCubes, TwoTouchingBoxesShareTheirContact) {
-  LabelVolume v = blank({12, 10, 10});
+  LabelVolume v = test::blank_labels({12, 10, 10});
   for (int k = 2; k < 8; ++k)
     for (int j = 2; j < 8; ++j)
       for (int i = 2; i < 10; ++i) v.at(i, j, k) = i < 6 ? 1 : 2;
@@ -89,7 +83,7 @@ TEST(MultiLabelMarchingCubes, APartAgainstTheBackgroundIsIndependentMarchingCube
   // cases included; under 6 and 18 the same holds for a label map of one component.
   std::mt19937 rng(7);
   for (int connectivity : {26, 26, 26}) {
-    LabelVolume v = blank({14, 13, 12});
+    LabelVolume v = test::blank_labels({14, 13, 12});
     for (int64_t k = 2; k < 10; ++k)
       for (int64_t j = 2; j < 11; ++j)
         for (int64_t i = 2; i < 12; ++i) v.at(i, j, k) = rng() % 3 == 0 ? 1 : 0;
@@ -111,12 +105,12 @@ TEST(MultiLabelMarchingCubes, OneComponentIsIndependentMarchingCubesUnderEveryCo
   for (int connectivity : {6, 18, 26}) {
     // The largest component of a random field: cavities, handles, diagonal contacts.
     std::mt19937 rng(3);
-    LabelVolume v = blank({12, 12, 12});
+    LabelVolume v = test::blank_labels({12, 12, 12});
     for (int64_t k = 2; k < 10; ++k)
       for (int64_t j = 2; j < 10; ++j)
         for (int64_t i = 2; i < 10; ++i) v.at(i, j, k) = rng() % 2;
     const Components all = find_components(v, {.connectivity = connectivity});
-    LabelVolume largest = blank(v.grid.dims);
+    LabelVolume largest = test::blank_labels(v.grid.dims);
     for (const VoxelRun& r : all.runs_of(all.components[0]))
       for (int32_t i = r.x_begin; i < r.x_end; ++i) largest.at(i, r.y, r.z) = 1;
     v = largest;
@@ -139,7 +133,7 @@ TEST(MultiLabelMarchingCubes, RandomMultiLabelFieldsGiveClosedManifoldShells) {
   for (int round = 0; round < 12; ++round) {
     const int labels = 2 + round % 5;
     for (int connectivity : {6, 18, 26}) {
-      LabelVolume v = blank({11, 10, 9});
+      LabelVolume v = test::blank_labels({11, 10, 9});
       for (int64_t k = 1; k < 8; ++k)
         for (int64_t j = 1; j < 9; ++j)
           for (int64_t i = 1; i < 10; ++i) v.at(i, j, k) = int32_t(rng() % (labels + 1));
