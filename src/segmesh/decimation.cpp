@@ -22,10 +22,6 @@ namespace segmesh {
 
 namespace {
 
-bool same_interface(const std::array<uint32_t, 2>& a, const std::array<uint32_t, 2>& b) {
-  return a == b || (a[0] == b[1] && a[1] == b[0]);
-}
-
 struct Candidate {
   double cost = 0;
   uint32_t remove = 0, keep = 0;
@@ -456,17 +452,6 @@ class Collapser {
   std::priority_queue<Candidate> heap_;
 };
 
-// The area of a mesh's triangles.
-double mesh_area(const TriMesh& m) {
-  double a = 0;
-  for (size_t t = 0; t < m.triangle_count(); ++t) {
-    const Vec3d p = to_double(m.positions[m.indices[3 * t]]);
-    a += 0.5 * norm(cross(to_double(m.positions[m.indices[3 * t + 1]]) - p,
-                          to_double(m.positions[m.indices[3 * t + 2]]) - p));
-  }
-  return a;
-}
-
 // The largest collapse error, for the flips' tolerance: a flip may move the surface by a quarter
 // of it.
 constexpr double kFlipToleranceShare = 0.25;
@@ -514,15 +499,11 @@ DecimationStats decimate_surface(LabelledSurface& surface, const DecimateOptions
 DecimationStats decimate_scene(Scene& scene, const DecimateOptions& options) {
   if (!options.active()) return {};
   std::vector<double> areas;
-  for (const Part& part : scene.parts) areas.push_back(mesh_area(part.mesh));
+  for (const Part& part : scene.parts) areas.push_back(surface_area(part.mesh));
   const std::vector<int64_t> budgets = part_triangle_budgets(areas, options);
   if (scene.surface) {
     const DecimationStats stats = decimate_surface(*scene.surface, options, budgets);
-    std::vector<TriMesh> shells = part_shells(*scene.surface);
-    tbb::parallel_for(size_t{0}, scene.parts.size(), [&](size_t p) {
-      compute_vertex_normals(shells[p]);
-      scene.parts[p].mesh = std::move(shells[p]);
-    });
+    set_part_shells(scene);
     return stats;
   }
   std::vector<DecimationStats> each(scene.parts.size());

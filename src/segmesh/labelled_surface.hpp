@@ -33,6 +33,12 @@ struct LabelledSurface {
   size_t part_count = 0;
 };
 
+// Whether two triangles' sides are one interface: the same two materials, wound either way
+// ((1, 2) beside (2, 1): multi-label Marching Cubes makes both along one contact).
+inline bool same_interface(const std::array<uint32_t, 2>& a, const std::array<uint32_t, 2>& b) {
+  return a == b || (a[0] == b[1] && a[1] == b[0]);
+}
+
 // The closed shell of every part, in part order; vertex normals when the surface has them
 // (turned around with the triangles where the part is outside).
 std::vector<TriMesh> part_shells(const LabelledSurface& surface);

@@ -249,6 +249,12 @@ double enclosed_volume(const TriMesh& mesh) {
   return enclosed_volume(mesh.positions, mesh.indices);
 }
 
+double surface_area(const TriMesh& mesh) {
+  MeshMeasures m;
+  if (mesh.indices.size() >= 3) measure_surface(mesh.positions, mesh.indices, m);
+  return m.area_mm2;
+}
+
 double enclosed_volume(const std::vector<Vec3f>& positions, const std::vector<uint32_t>& indices) {
   MeshMeasures m;
   if (indices.size() >= 3) measure_surface(positions, indices, m);

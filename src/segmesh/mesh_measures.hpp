@@ -59,4 +59,7 @@ double enclosed_volume(const TriMesh& mesh);
 // positions it had before smoothing, say).
 double enclosed_volume(const std::vector<Vec3f>& positions, const std::vector<uint32_t>& indices);
 
+// Only the area of the mesh's triangles (mm², as measure_mesh sums it).
+double surface_area(const TriMesh& mesh);
+
 }  // namespace segmesh

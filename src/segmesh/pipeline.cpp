@@ -123,15 +123,6 @@ Part describe_part(const Image& image, const MeshingOptions& o, const Component&
   return part;
 }
 
-// Every part's mesh made anew from the scene's shared surface: its shell, with its own normals.
-void set_part_shells(Scene& scene) {
-  std::vector<TriMesh> shells = part_shells(*scene.surface);
-  tbb::parallel_for(size_t{0}, scene.parts.size(), [&](size_t p) {
-    compute_vertex_normals(shells[p]);
-    scene.parts[p].mesh = std::move(shells[p]);
-  });
-}
-
 }  // namespace
 
 std::string part_name(std::string_view base, int component) {

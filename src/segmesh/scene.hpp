@@ -59,10 +59,14 @@ struct Scene {
   std::vector<Part> parts;
   // Conforming surfaces: every contact between two parts is one surface of both. When some parts
   // touch, `surface` is the one surface of all parts (material p + 1 is parts[p]) and each part's
-  // mesh is its shell (part_shells), remade whenever the surface changes (smooth_scene); when none
+  // mesh is its shell (part_shells), remade whenever the surface changes (set_part_shells); when none
   // touch, there is no surface and each part was meshed on its own (the same result).
   bool conforming = false;
   std::optional<LabelledSurface> surface;
 };
+
+// Every part's mesh made anew from the scene's shared surface (precondition: it has one): its
+// shell (part_shells), with its own vertex normals. Called whenever the surface changed.
+void set_part_shells(Scene& scene);
 
 }  // namespace segmesh

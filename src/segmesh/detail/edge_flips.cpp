@@ -56,9 +56,8 @@ int64_t improve_by_edge_flips(LabelledSurface& s, double tolerance_mm) {
       i = j;
       if (n != 2 || changed[t1] || changed[t2]) continue;
       // The same interface wound the same way, or the other way ((1, 2) beside (2, 1)).
+      if (!same_interface(s.sides[t1], s.sides[t2])) continue;
       const bool turned = s.sides[t1] != s.sides[t2];
-      if (turned && !(s.sides[t1][0] == s.sides[t2][1] && s.sides[t1][1] == s.sides[t2][0]))
-        continue;
       // t1 = (a, b, c) with the edge a -> b; t2 holds b -> a (a -> b when turned).
       const uint32_t a0 = uint32_t(uses[first].key >> 32), b0 = uint32_t(uses[first].key);
       int r = 0;
