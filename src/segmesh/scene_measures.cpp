@@ -3,9 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <map>
 #include <optional>
@@ -14,6 +12,7 @@
 
 #include "segmesh/detail/ordered_triangle_tree.hpp"
 #include "segmesh/moved_mesh_deviation.hpp"
+#include "segmesh/position_key.hpp"
 
 namespace segmesh {
 
@@ -36,29 +35,13 @@ PartMeasures measure_part(const TriMesh& mesh, bool quality, const std::vector<V
 
 namespace {
 
-// A triangle of the mesh at each vertex position (the last one met), keyed by the position's bits.
-struct PositionKey {
-  std::array<uint32_t, 3> bits;
-  bool operator==(const PositionKey&) const = default;
-};
-struct PositionHash {
-  size_t operator()(const PositionKey& k) const {
-    uint64_t h = (uint64_t{k.bits[0]} * 0x9E3779B97F4A7C15ull) ^ k.bits[1];
-    h = (h * 0xBF58476D1CE4E5B9ull) ^ k.bits[2];
-    return size_t(h * 0x94D049BB133111EBull >> 17);
-  }
-};
-PositionKey key_of(const Vec3f& v) {
-  PositionKey k;
-  std::memcpy(k.bits.data(), &v, sizeof k.bits);
-  return k;
-}
-using TriangleAt = std::unordered_map<PositionKey, uint32_t, PositionHash>;
+// A triangle of the mesh at each vertex position (the last one met).
+using TriangleAt = std::unordered_map<PositionKey, uint32_t, PositionKeyHash>;
 TriangleAt triangle_at(const TriMesh& m) {
   TriangleAt at;
   at.reserve(m.positions.size());
   for (size_t t = 0; t < m.triangle_count(); ++t)
-    for (int k = 0; k < 3; ++k) at[key_of(m.positions[m.indices[3 * t + size_t(k)]])] = uint32_t(t);
+    for (int k = 0; k < 3; ++k) at[position_key(m.positions[m.indices[3 * t + size_t(k)]])] = uint32_t(t);
   return at;
 }
 
@@ -110,7 +93,7 @@ std::vector<ContactMeasures> measure_contacts(const Scene& scene) {
           gap2 = std::numeric_limits<double>::infinity();
           continue;
         }
-        const auto at = starts[part].find(key_of(position));
+        const auto at = starts[part].find(position_key(position));
         const size_t start = at == starts[part].end() ? OrderedTriangleTree::kNoStart : at->second;
         gap2 = std::max(
             gap2, shells[part]->nearest2(p, std::numeric_limits<double>::infinity(), start, 0));

@@ -1,9 +1,9 @@
 #include "segmesh_io/stl_reader.hpp"
 
 #include <charconv>
-#include <cstring>
 #include <unordered_map>
 
+#include "segmesh/position_key.hpp"
 #include "segmesh_io/detail/byte_order.hpp"
 #include "segmesh_io/detail/mesh_io_common.hpp"
 
@@ -13,14 +13,12 @@ using namespace mesh_io;
 
 namespace {
 
-// Welds corners by exact coordinates. Keys are bit patterns, so the map never merges two points a
-// reader could tell apart, and +0/-0 are folded so a mirrored export still welds.
+// Welds corners by exact coordinates (position_key.hpp).
 class Welder {
  public:
   explicit Welder(TriMesh& mesh) : mesh_(mesh) {}
   void add_corner(Vec3f p) {
-    const Key key{bits(p.x), bits(p.y), bits(p.z)};
-    const auto [it, inserted] = map_.try_emplace(key, static_cast<uint32_t>(mesh_.positions.size()));
+    const auto [it, inserted] = map_.try_emplace(position_key(p), static_cast<uint32_t>(mesh_.positions.size()));
     if (inserted) mesh_.positions.push_back(p);
     mesh_.indices.push_back(it->second);
   }
@@ -30,26 +28,8 @@ class Welder {
   }
 
  private:
-  struct Key {
-    uint32_t x, y, z;
-    bool operator==(const Key&) const = default;
-  };
-  struct Hash {
-    size_t operator()(const Key& k) const {
-      uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
-      h ^= (k.y + 0x7F4A7C15ull + (h << 6) + (h >> 2)) * 0xC2B2AE3D27D4EB4Full;
-      h ^= (k.z + 0x165667B19E3779F9ull + (h << 6) + (h >> 2)) * 0x94D049BB133111EBull;
-      return static_cast<size_t>(h ^ (h >> 31));
-    }
-  };
-  static uint32_t bits(float v) {
-    if (v == 0.0f) v = 0.0f;
-    uint32_t b;
-    std::memcpy(&b, &v, 4);
-    return b;
-  }
   TriMesh& mesh_;
-  std::unordered_map<Key, uint32_t, Hash> map_;
+  std::unordered_map<PositionKey, uint32_t, PositionKeyHash> map_;
 };
 
 Part make_part(std::string name) {
