@@ -44,19 +44,39 @@ std::vector<std::array<uint32_t, 2>> crossing_pairs(const TriMesh& mesh,
   auto corner = [&](uint32_t t, int k) {
     return to_double(mesh.positions[idx[3 * t + size_t(k)]]);
   };
-  // Per triangle: its box and its plane's (unnormalised) normal, as
-  // segment_crosses_triangle computes them.
+  // Per triangle: its box, and its corners and plane in floats for a first test of its edges
+  // against another triangle (edge_through below).
   struct Box {
-    Vec3d lo, hi, n;
+    Vec3d lo, hi;
+  };
+  struct Plane {
+    float c[3][3];  // the corners
+    float n[3];     // the normal, unnormalised, as segment_crosses_triangle computes it
+    float margin;   // 1e-5 |n|
+    float side;     // the box's largest side
   };
   std::vector<Box> box(tris.size());
+  std::vector<Plane> plane(tris.size());
   std::vector<uint8_t> active(moved.empty() ? 0 : tris.size(), 0);
   Vec3d extent{}, origin{};
   for (size_t i = 0; i < tris.size(); ++i) {
     const Vec3d a = corner(tris[i], 0), b = corner(tris[i], 1), c = corner(tris[i], 2);
     const Vec3d lo{std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})};
     const Vec3d hi{std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})};
-    box[i] = {lo, hi, cross(b - a, c - a)};
+    box[i] = {lo, hi};
+    const Vec3d n = cross(b - a, c - a), side = hi - lo;
+    Plane& g = plane[i];
+    for (int k = 0; k < 3; ++k) {
+      const Vec3f v = mesh.positions[idx[3 * size_t(tris[i]) + size_t(k)]];
+      g.c[k][0] = v.x;
+      g.c[k][1] = v.y;
+      g.c[k][2] = v.z;
+    }
+    g.n[0] = float(n.x);
+    g.n[1] = float(n.y);
+    g.n[2] = float(n.z);
+    g.margin = float(1e-5 * norm(n));
+    g.side = float(std::max({side.x, side.y, side.z}));
     extent = extent + (hi - lo);
     origin = i == 0 ? lo
                     : Vec3d{std::min(origin.x, lo.x), std::min(origin.y, lo.y),
@@ -105,32 +125,6 @@ std::vector<std::array<uint32_t, 2>> crossing_pairs(const TriMesh& mesh,
         keyed.push_back({k, uint32_t(i)});
     });
   tbb::parallel_sort(keyed.begin(), keyed.end());
-  // Whether triangle p may have corners strictly on both sides of triangle q's plane (else no
-  // edge of p can pass through q), in floats with a margin well above their rounding, so only
-  // pairs it passes take the exact test (segment_crosses_triangle's margins are far larger).
-  struct Plane {
-    float c[3][3];  // the corners
-    float n[3];     // the normal, unnormalised
-    float margin;   // 1e-5 |n|
-    float side;     // the box's largest side
-  };
-  std::vector<Plane> plane(tris.size());
-  for (size_t i = 0; i < tris.size(); ++i) {
-    Plane& g = plane[i];
-    for (int k = 0; k < 3; ++k) {
-      const Vec3f v = mesh.positions[idx[3 * size_t(tris[i]) + size_t(k)]];
-      g.c[k][0] = v.x;
-      g.c[k][1] = v.y;
-      g.c[k][2] = v.z;
-    }
-    const Vec3d& n = box[i].n;
-    g.n[0] = float(n.x);
-    g.n[1] = float(n.y);
-    g.n[2] = float(n.z);
-    const Vec3d side = box[i].hi - box[i].lo;
-    g.margin = float(1e-5 * norm(n));
-    g.side = float(std::max({side.x, side.y, side.z}));
-  }
   // Whether an edge of triangle p other than the ones at corner `skip` (-1: none) passes through
   // triangle q: its ends first checked in floats against q's plane with a margin well above
   // their rounding (the corners are within both boxes' sides of each other, the boxes meeting),
