@@ -41,6 +41,7 @@ struct MeshArgs {
   std::string color = "material";
   int threads = 0;
   bool quiet = false;
+  bool quantize = false;
   ReadArgs read;
 };
 
@@ -126,6 +127,7 @@ nlohmann::json options_json(const MeshArgs& a, const MeshingOptions& resolved,
                             const OutputTarget& out) {
   nlohmann::json j = meshing_json(resolved, a.meshing.label_names);
   j["format"] = extension(out.format);
+  j["quantize"] = a.quantize;
   j["output"] = out.path.string();
   j["per_part_files"] = out.folder;
   j["atlas"] = a.atlas.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.atlas);
@@ -144,6 +146,11 @@ int run_mesh(const MeshArgs& args) {
   }
   options.color_by_quality = args.color == "quality";
   const OutputTarget target = resolve_output(args);
+  if (args.quantize && target.format != MeshFormat::glb) {
+    throw Error("--quantize writes glTF's KHR_mesh_quantization; it needs glb output, not " +
+                std::string(extension(target.format)));
+  }
+  const MeshWriteOptions write_options{.quantize = args.quantize};
   refuse_to_overwrite(target.path, args.input);
   if (!args.report.empty()) {
     require_parent_folder(args.report);
@@ -200,9 +207,11 @@ int run_mesh(const MeshArgs& args) {
   std::vector<std::string> outputs;
   try {
     if (target.folder) {
-      for (const fs::path& p : write_parts(scene, target.path, target.format)) outputs.push_back(p.string());
+      for (const fs::path& p : write_parts(scene, target.path, target.format, write_options)) {
+        outputs.push_back(p.string());
+      }
     } else {
-      write_scene(scene, target.path, target.format);
+      write_scene(scene, target.path, target.format, write_options);
       outputs.push_back(target.path.string());
     }
     if (!args.atlas.empty()) {
@@ -287,6 +296,9 @@ Subcommand add_mesh_command(CLI::App& app) {
                   "also write the conforming surface, one mesh whose triangles name their inside "
                   "and outside part, to this .ply or .glb file (needs --surfaces conforming)");
   cmd->add_option("--threads", a->threads, "worker threads (0: all cores)")->capture_default_str();
+  cmd->add_flag("--quantize", a->quantize,
+               "glb: positions as 16-bit integers on one grid over the scene and normals as 8-bit "
+               "(KHR_mesh_quantization), about half the file");
   cmd->add_flag("--quiet", a->quiet, "no progress bar and no summary");
   return {cmd, [a] { return run_mesh(*a); }};
 }

@@ -1,6 +1,8 @@
 #include "segmesh_io/gltf_reader.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <type_traits>
@@ -47,9 +49,10 @@ class GlbReader {
   }
 
   Scene read() {
-    if (const Json* required = member(doc_, "extensionsRequired")) {
-      if (required->is_array() && !required->empty()) {
-        error("uses the required extension " + required->front().dump() +
+    if (const Json* required = member(doc_, "extensionsRequired"); required && required->is_array()) {
+      for (const Json& name : *required) {
+        if (name == "KHR_mesh_quantization") continue;  // read_vec3 reads integer attributes
+        error("uses the required extension " + name.dump() +
               ", which segmesh cannot read; export it without compression or extensions");
       }
     }
@@ -274,13 +277,27 @@ class GlbReader {
 
   std::vector<Vec3f> read_vec3(size_t accessor, const char* what) const {
     const Located loc = locate(accessor, what);
-    if (loc.component_type != kFloat || loc.components != 3) {
-      error(std::string("glTF ") + what + " must be float VEC3");
+    if (loc.component_type == kUnsignedInt || loc.components != 3) {
+      error(std::string("glTF ") + what + " must be VEC3 of float or (KHR_mesh_quantization) 8- or 16-bit integers");
     }
+    // An integer component as KHR_mesh_quantization reads it: normalised values scaled to [0, 1]
+    // or [-1, 1] (signed clamped at -1), others as they are.
+    const int type = loc.component_type;
+    const bool normalized = loc.normalized;
+    const size_t csize = component_size(type);
+    const auto component = [type, normalized](const char* p) -> float {
+      switch (type) {
+        case kByte: { const float v = static_cast<int8_t>(*p); return normalized ? std::max(v / 127.0f, -1.0f) : v; }
+        case kUnsignedByte: { const float v = static_cast<uint8_t>(*p); return normalized ? v / 255.0f : v; }
+        case kShort: { const float v = load_le<int16_t>(p); return normalized ? std::max(v / 32767.0f, -1.0f) : v; }
+        case kUnsignedShort: { const float v = load_le<uint16_t>(p); return normalized ? v / 65535.0f : v; }
+        default: return load_le<float>(p);
+      }
+    };
     std::vector<Vec3f> out(loc.count);
     for (size_t k = 0; k < loc.count; ++k) {
       const char* p = loc.data + k * loc.stride;
-      out[k] = {load_le<float>(p), load_le<float>(p + 4), load_le<float>(p + 8)};
+      out[k] = {component(p), component(p + csize), component(p + 2 * csize)};
     }
     return out;
   }

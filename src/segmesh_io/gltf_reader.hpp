@@ -4,6 +4,8 @@
 // its JSON chunk and one BIN chunk; buffer 0 stored in the GLB; triangle primitives (mode 4,
 // indexed with u8/u16/u32 indices or not indexed) with float VEC3 POSITION, float VEC3 NORMAL and
 // COLOR_0 (float, or normalised ubyte/ushort; VEC3 or VEC4); matrix or TRS node transforms.
+// KHR_mesh_quantization (what `segmesh mesh --quantize` writes): POSITION and NORMAL as 8- or
+// 16-bit integers, normalised or not, turned into floats as the extension says.
 // Anything else (external or data: URI buffers, sparse accessors, other primitive modes, required
 // extensions such as Draco or meshopt compression, .gltf text files) is a clear segmesh::Error.
 //

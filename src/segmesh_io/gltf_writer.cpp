@@ -6,8 +6,9 @@ namespace segmesh {
 
 using namespace mesh_io;
 
-void write_glb(const PartList& parts, std::ostream& out) {
+void write_glb(const PartList& parts, std::ostream& out, bool quantize) {
   GlbScene scene;
+  scene.quantize = quantize;
   for (const Part* part_ptr : parts) {
     const Part& part = *part_ptr;
     const TriMesh& m = part.mesh;

@@ -21,6 +21,12 @@
 // for their bounds, then the file is streamed (mesh_io::write_pieces): positions, colours and
 // indices straight from the meshes, normals re-normalised piece by piece; the file is never
 // assembled in memory.
+//
+// Quantized (`quantize`, `segmesh mesh --quantize`): KHR_mesh_quantization as
+// detail/glb_document.hpp describes it: positions as 16-bit integers on one grid over the whole
+// scene (a contact's shared vertices stay at one position in both parts), normals as 8-bit, uint16
+// indices for parts of at most 65535 vertices; each part node's matrix gets the grid's scale and
+// offset. The phantom's GLB shrinks to about half (docs/DECIMATION.md has the sizes).
 #pragma once
 
 #include <ostream>
@@ -36,6 +42,6 @@ inline constexpr Transform kGltfRootMatrix = {0.001, 0, 0, 0, 0, 0, -0.001, 0,
 // The inverse: glTF metres (+Y up, +Z front) to LPS millimetres.
 inline constexpr Transform kGltfToLps = {1000, 0, 0, 0, 0, 0, 1000, 0, 0, -1000, 0, 0, 0, 0, 0, 1};
 
-void write_glb(const mesh_io::PartList& parts, std::ostream& out);
+void write_glb(const mesh_io::PartList& parts, std::ostream& out, bool quantize = false);
 
 }  // namespace segmesh

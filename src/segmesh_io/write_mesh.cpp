@@ -33,7 +33,7 @@ void finish(AtomicFile& file) {
 using Files = std::vector<std::unique_ptr<AtomicFile>>;
 
 void write_to(const PartList& parts, const fs::path& file, MeshFormat format, const std::string& name,
-              Files& files) {
+              const MeshWriteOptions& options, Files& files) {
   require_parent_folder(file);  // names the file asked for, not the .mtl that OBJ opens first
   const auto open = [&](const fs::path& target) -> AtomicFile& {
     files.push_back(std::make_unique<AtomicFile>(target));
@@ -67,8 +67,15 @@ void write_to(const PartList& parts, const fs::path& file, MeshFormat format, co
       break;
     }
     case MeshFormat::glb:
-      write_one([&](std::ostream& out) { write_glb(parts, out); });
+      write_one([&](std::ostream& out) { write_glb(parts, out, options.quantize); });
       break;
+  }
+}
+
+void check_write_options(const fs::path& path, MeshFormat format, const MeshWriteOptions& options) {
+  if (options.quantize && format != MeshFormat::glb) {
+    throw Error(path.string() + ": quantized positions (--quantize) are a glTF extension; write glb, not " +
+                std::string(extension(format)));
   }
 }
 
@@ -107,15 +114,19 @@ std::vector<fs::path> part_file_paths(const Scene& scene, const fs::path& dir, M
   return file_paths(parts_to_write(scene), dir, format);
 }
 
-void write_scene(const Scene& scene, const fs::path& file, MeshFormat format) {
+void write_scene(const Scene& scene, const fs::path& file, MeshFormat format,
+                 const MeshWriteOptions& options) {
+  check_write_options(file, format, options);
   const PartList parts = parts_to_write(scene);
   const std::string name = parts.size() == 1 ? parts.front()->name : file.stem().string();
   Files files;
-  write_to(parts, file, format, name, files);
+  write_to(parts, file, format, name, options, files);
   commit_all(files);
 }
 
-std::vector<fs::path> write_parts(const Scene& scene, const fs::path& dir, MeshFormat format) {
+std::vector<fs::path> write_parts(const Scene& scene, const fs::path& dir, MeshFormat format,
+                                  const MeshWriteOptions& options) {
+  check_write_options(dir, format, options);
   const PartList parts = parts_to_write(scene);
   std::error_code ec;
   bool created = false;
@@ -133,7 +144,7 @@ std::vector<fs::path> write_parts(const Scene& scene, const fs::path& dir, MeshF
   try {
     Files files;
     for (size_t i = 0; i < parts.size(); ++i) {
-      write_to({parts[i]}, written[i], format, parts[i]->name, files);
+      write_to({parts[i]}, written[i], format, parts[i]->name, options, files);
     }
     commit_all(files);
   } catch (...) {

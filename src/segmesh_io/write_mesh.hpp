@@ -25,9 +25,18 @@
 
 namespace segmesh {
 
+// How a scene is written, beyond its format.
+struct MeshWriteOptions {
+  // glb only: positions and normals quantized (KHR_mesh_quantization, gltf_writer.hpp), about
+  // half the size, positions within 0.87 x the scene's largest extent / 65535. Another format
+  // with quantize set is a segmesh::Error.
+  bool quantize = false;
+};
+
 // Writes every part of `scene` into `file` (OBJ: also `file` with the extension .mtl). The
 // folder must exist.
-void write_scene(const Scene& scene, const std::filesystem::path& file, MeshFormat format);
+void write_scene(const Scene& scene, const std::filesystem::path& file, MeshFormat format,
+                 const MeshWriteOptions& options = {});
 
 // Writes one file per part with triangles into `dir`, named after the part: characters other than
 // ASCII letters, digits, '-', '_' and '.' become '_', leading dots are dropped, an empty name
@@ -37,7 +46,8 @@ void write_scene(const Scene& scene, const std::filesystem::path& file, MeshForm
 // renamed only when every part has been written, so an error while writing leaves nothing (and
 // removes `dir` again if this call created it).
 std::vector<std::filesystem::path> write_parts(const Scene& scene, const std::filesystem::path& dir,
-                                               MeshFormat format);
+                                               MeshFormat format,
+                                               const MeshWriteOptions& options = {});
 
 // The files write_parts would write, in the same order, without touching the disk.
 std::vector<std::filesystem::path> part_file_paths(const Scene& scene,

@@ -185,6 +185,43 @@ TEST(Cli, ConformingSurfacesGiveClosedPartsAndSayWhichRan) {
   EXPECT_TRUE(nlohmann::json::parse(in5)["options"]["surfaces_note"].is_null());
 }
 
+// --quantize writes a compact GLB (KHR_mesh_quantization) the reader takes back, at most about
+// 60 % of the float file, the parts where they were (within the grid's step), and says so in the
+// report; for any other format it is refused in one line with nothing written.
+TEST(Cli, QuantizeWritesACompactGlbAndIsRefusedForOtherFormats) {
+  const fs::path dir = test::scratch_dir("cli_quantize");
+  const fs::path phantom = small_phantom("cli_quantize");
+  for (const std::string& out : {q(dir / "x.ply"), q(dir / "parts") + "/ --format stl"}) {
+    const auto bad = run_segmesh("mesh " + q(phantom) + " -o " + out + " --quantize --quiet");
+    EXPECT_EQ(bad.exit_code, 2) << out;
+    EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+    EXPECT_NE(bad.err.find("--quantize writes glTF's KHR_mesh_quantization; it needs glb output"),
+              std::string::npos)
+        << bad.err;
+  }
+  EXPECT_TRUE(test::folder_holds_only(dir, {}));
+
+  const auto plain = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "f.glb") + " --quiet");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  const auto packed = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "q.glb") +
+                                  " --quantize --quiet --report " + q(dir / "q.json"));
+  ASSERT_EQ(packed.exit_code, 0) << packed.err;
+  EXPECT_LT(double(fs::file_size(dir / "q.glb")), 0.8 * double(fs::file_size(dir / "f.glb")));
+  std::ifstream in(dir / "q.json");
+  EXPECT_EQ(nlohmann::json::parse(in)["options"]["quantize"], true);
+  const Scene a = read_mesh(dir / "f.glb"), b = read_mesh(dir / "q.glb");
+  ASSERT_EQ(a.parts.size(), b.parts.size());
+  for (size_t p = 0; p < a.parts.size(); ++p) {
+    ASSERT_EQ(a.parts[p].mesh.positions.size(), b.parts[p].mesh.positions.size());
+    double worst = 0;
+    for (size_t v = 0; v < a.parts[p].mesh.positions.size(); ++v) {
+      worst = std::max(worst, norm(to_double(a.parts[p].mesh.positions[v]) -
+                                   to_double(b.parts[p].mesh.positions[v])));
+    }
+    EXPECT_LT(worst, 0.01) << a.parts[p].name;  // the small phantom spans well under 500 mm
+  }
+}
+
 // --atlas with independent surfaces (asked for, or Dual Contouring's), with another extension, on
 // -o's file or on a part's file in the -o folder is refused in one line, and nothing is written.
 // With conforming surfaces it writes them beside the meshes: one PLY whose faces carry their

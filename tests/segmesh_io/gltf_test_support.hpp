@@ -78,4 +78,13 @@ inline ValidatorReport run_validator(const std::filesystem::path& file) {
   return r;
 }
 
+// The validator runs on `file` and finds neither errors nor warnings.
+inline void expect_valid_glb(const std::filesystem::path& file) {
+  SCOPED_TRACE(file.string());
+  const ValidatorReport r = run_validator(file);
+  ASSERT_TRUE(r.ran);
+  EXPECT_EQ(r.errors, 0) << r.output;
+  EXPECT_EQ(r.warnings, 0) << r.output;
+}
+
 }  // namespace segmesh::test

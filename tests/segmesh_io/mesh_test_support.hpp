@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "segmesh/error.hpp"
+#include "segmesh/image.hpp"
 #include "segmesh/scene.hpp"
 
 namespace segmesh::test {
@@ -148,6 +149,25 @@ std::string error_message(Fn fn, const std::filesystem::path& file) {
   }
   ADD_FAILURE() << "expected segmesh::Error for " << file;
   return {};
+}
+
+// Boxes on an anisotropic grid away from the origin: a block (label 1) and a second block beside
+// it (label 2, its name with a space) and, when `touching`, a cap (label 3) lying across the two,
+// so that parts touch each other and the background along junction curves. Otherwise the blocks
+// stand two voxels apart and there is no cap: no part touches another.
+inline Image touching_boxes(bool touching) {
+  Volume<uint8_t> v;
+  v.grid.dims = {24, 20, 16};
+  v.grid.spacing = {0.5, 0.6, 0.7};
+  v.grid.origin = {-10.25, 5.5, 2.0};
+  v.voxels.assign(v.grid.voxel_count(), 0);
+  for (int64_t k = 3; k < 13; ++k)
+    for (int64_t j = 3; j < 17; ++j)
+      for (int64_t i = 3; i < 21; ++i) {
+        if (k < 9 && (touching || i < 10 || i >= 12)) v.at(i, j, k) = i < 12 ? 1 : 2;
+        if (k >= 9 && touching && i >= 8 && i < 16 && j >= 6 && j < 14) v.at(i, j, k) = 3;
+      }
+  return Image{.path = "boxes", .voxel_type = "uint8", .volume = std::move(v)};
 }
 
 }  // namespace segmesh::test

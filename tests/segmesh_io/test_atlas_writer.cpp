@@ -28,30 +28,11 @@ namespace fs = std::filesystem;
 using namespace segmesh::test;
 using Sides = std::array<uint32_t, 2>;
 
-// Boxes on an anisotropic grid away from the origin: a block (label 1) and a second block beside
-// it (label 2, its name with a space) and, when `touching`, a cap (label 3) lying across the two,
-// so that parts touch each other and the background along junction curves. Otherwise the blocks
-// stand two voxels apart and there is no cap: no part touches another.
-Image boxes(bool touching) {
-  Volume<uint8_t> v;
-  v.grid.dims = {24, 20, 16};
-  v.grid.spacing = {0.5, 0.6, 0.7};
-  v.grid.origin = {-10.25, 5.5, 2.0};
-  v.voxels.assign(v.grid.voxel_count(), 0);
-  for (int64_t k = 3; k < 13; ++k)
-    for (int64_t j = 3; j < 17; ++j)
-      for (int64_t i = 3; i < 21; ++i) {
-        if (k < 9 && (touching || i < 10 || i >= 12)) v.at(i, j, k) = i < 12 ? 1 : 2;
-        if (k >= 9 && touching && i >= 8 && i < 16 && j >= 6 && j < 14) v.at(i, j, k) = 3;
-      }
-  return Image{.path = "boxes", .voxel_type = "uint8", .volume = std::move(v)};
-}
-
 Scene scene_of(bool touching, Surfaces surfaces) {
   MeshingOptions o;
   o.surfaces = surfaces;
   o.label_names = {{1, "block", {}, {}}, {2, "left block", {}, {}}, {3, "cap", {}, {}}};
-  return build_scene(boxes(touching), o);
+  return build_scene(touching_boxes(touching), o);
 }
 
 // The touching boxes with a conforming surface, checked to be worth testing on (three parts,
@@ -163,10 +144,7 @@ struct AtlasGlb {
 };
 
 AtlasGlb read_atlas_glb(const fs::path& file) {
-  const ValidatorReport report = run_validator(file);
-  EXPECT_TRUE(report.ran);
-  EXPECT_EQ(report.errors, 0) << report.output;
-  EXPECT_EQ(report.warnings, 0) << report.output;
+  expect_valid_glb(file);
   const Glb g = split_glb(read_bytes(file));
   AtlasGlb atlas{g.json, {}, {}};
   const nlohmann::json& j = g.json;

@@ -1,12 +1,14 @@
 #include "segmesh_io/detail/glb_document.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "segmesh_io/detail/byte_order.hpp"
@@ -20,27 +22,77 @@ using Json = nlohmann::ordered_json;
 
 namespace {
 
-constexpr int kFloat = 5126, kUnsignedByte = 5121, kUnsignedInt = 5125;
+constexpr int kFloat = 5126, kByte = 5120, kUnsignedByte = 5121, kUnsignedShort = 5123,
+              kUnsignedInt = 5125;
 constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
 
 // The binary chunk is described first (views and accessors with their offsets) and streamed
 // afterwards straight from the meshes, so the file is never assembled in memory.
 struct BinSource {
-  enum class Kind { bytes, normals } kind;
-  const void* data;        // Kind::bytes: the array written as it is
-  const TriMesh* mesh;     // Kind::normals: whose normals are written unit length
+  // bytes: `data` written as it is. normals: `mesh`'s normals, unit length. quantized_positions,
+  // quantized_normals: `mesh`'s, quantized (glb_document.hpp). short_indices: the uint32 indices
+  // at `data` written as uint16.
+  enum class Kind { bytes, normals, quantized_positions, quantized_normals, short_indices } kind;
+  const void* data;
+  const TriMesh* mesh;
   size_t offset, bytes;    // place in the binary chunk
 };
+
+// The one grid of a quantized file's positions: position = origin + step * q, q in [0, 65535].
+struct QuantGrid {
+  Vec3d origin;
+  double step = 1;
+
+  std::array<uint16_t, 3> quantize(const Vec3f& p) const {
+    const auto q = [this](double v, double o) {
+      return static_cast<uint16_t>(std::clamp(std::round((v - o) / step), 0.0, 65535.0));
+    };
+    return {q(p.x, origin.x), q(p.y, origin.y), q(p.z, origin.z)};
+  }
+  // The node matrix's factor that turns grid integers into millimetres (column-major).
+  Transform dequantize() const {
+    return {step, 0, 0, 0, 0, step, 0, 0, 0, 0, step, 0, origin.x, origin.y, origin.z, 1};
+  }
+};
+
+// A unit normal as three normalised signed bytes (value / 127): of the 8 roundings around 127 n,
+// the one closest in direction among those within 0.006 of unit length (the validator allows
+// 0.00674), else the one closest to unit length.
+std::array<int8_t, 3> quantize_normal(const Vec3f& n) {
+  const double f[3] = {127.0 * n.x, 127.0 * n.y, 127.0 * n.z};
+  std::array<int8_t, 3> best{0, 0, 127};
+  double best_dot = -2, best_len_err = 2;
+  bool best_ok = false;
+  for (int corner = 0; corner < 8; ++corner) {
+    double c[3];
+    for (int k = 0; k < 3; ++k) c[k] = std::clamp(std::floor(f[k]) + ((corner >> k) & 1), -127.0, 127.0);
+    const double len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    if (len == 0) continue;
+    const double len_err = std::abs(len / 127.0 - 1.0);
+    const double dot = (c[0] * n.x + c[1] * n.y + c[2] * n.z) / len;
+    const bool ok = len_err <= 0.006;
+    if ((ok && (!best_ok || dot > best_dot)) || (!ok && !best_ok && len_err < best_len_err)) {
+      best = {int8_t(c[0]), int8_t(c[1]), int8_t(c[2])};
+      best_dot = dot;
+      best_len_err = len_err;
+      best_ok = ok;
+    }
+  }
+  return best;
+}
 
 class GlbBuilder {
  public:
   // Reserves `bytes` as a new bufferView and an accessor over it; returns the accessor index.
+  // `stride`, when not 0, is the view's byteStride (attributes padded to 4 bytes).
   size_t add_accessor(BinSource source, size_t count, int component_type, const char* type,
-                      int target, bool normalized = false) {
+                      int target, bool normalized = false, size_t stride = 0) {
     size_ = (size_ + 3) / 4 * 4;
     source.offset = size_;
     size_ += source.bytes;
-    views_.push_back(Json{{"buffer", 0}, {"byteOffset", source.offset}, {"byteLength", source.bytes}, {"target", target}});
+    views_.push_back(Json{{"buffer", 0}, {"byteOffset", source.offset}, {"byteLength", source.bytes}});
+    if (stride) views_.back()["byteStride"] = stride;
+    views_.back()["target"] = target;
     sources_.push_back(source);
     Json accessor{{"bufferView", views_.size() - 1}, {"componentType", component_type}};
     if (normalized) accessor["normalized"] = true;
@@ -80,21 +132,29 @@ class UnitNormals {
   void fill(size_t begin, size_t end, char* out) {
     static_assert(std::endian::native == std::endian::little && sizeof(Vec3f) == 12);
     for (size_t v = begin; v < end; ++v) {
-      const Vec3d n = to_double(m_.normals[v]);
-      const double len = norm(n);
-      Vec3f unit;
-      if (std::isfinite(len) && len > 1e-12) {
-        unit = to_float((1.0 / len) * n);
-      } else {
-        const std::vector<Vec3d>& sum = sums();
-        const double s = norm(sum[v]);
-        unit = s > 0 && std::isfinite(s) ? to_float((1.0 / s) * sum[v]) : Vec3f{0, 0, 1};
-      }
-      std::memcpy(out + 12 * (v - begin), &unit, 12);
+      const Vec3f n = unit(v);
+      std::memcpy(out + 12 * (v - begin), &n, 12);
+    }
+  }
+  // Normals [begin, end) quantized (quantize_normal), 4 bytes each, the fourth 0.
+  void fill_quantized(size_t begin, size_t end, char* out) {
+    for (size_t v = begin; v < end; ++v) {
+      const std::array<int8_t, 3> q = quantize_normal(unit(v));
+      std::memcpy(out + 4 * (v - begin), q.data(), 3);
+      out[4 * (v - begin) + 3] = 0;
     }
   }
 
  private:
+  Vec3f unit(size_t v) {
+    const Vec3d n = to_double(m_.normals[v]);
+    const double len = norm(n);
+    if (std::isfinite(len) && len > 1e-12) return to_float((1.0 / len) * n);
+    const std::vector<Vec3d>& sum = sums();
+    const double s = norm(sum[v]);
+    return s > 0 && std::isfinite(s) ? to_float((1.0 / s) * sum[v]) : Vec3f{0, 0, 1};
+  }
+
   const std::vector<Vec3d>& sums() {
     std::call_once(once_, [&] {
       sum_.assign(m_.positions.size(), Vec3d{});
@@ -137,13 +197,37 @@ Json material_json(const GlbMaterial& m) {
                 {"roughnessFactor", unit(mat.roughness)}}}};
 }
 
-// The accessors of one mesh's vertices: POSITION with its bounds, NORMAL and COLOR_0 when asked.
-Json vertex_attributes(const GlbMesh& mesh, GlbBuilder& b) {
+// The accessors of one mesh's vertices: POSITION with its bounds, NORMAL and COLOR_0 when asked;
+// quantized on `grid` when there is one.
+Json vertex_attributes(const GlbMesh& mesh, const std::optional<QuantGrid>& grid, GlbBuilder& b) {
   const TriMesh& m = *mesh.vertices;
   if (m.vertex_count() > std::numeric_limits<uint32_t>::max() - 1) {
     throw Error("glTF mesh '" + mesh.name + "' has too many vertices for uint32 indices");
   }
   Json attributes = Json::object();
+  if (grid) {
+    std::array<uint16_t, 3> lo{65535, 65535, 65535}, hi{0, 0, 0};
+    for (const Vec3f& p : m.positions) {
+      const std::array<uint16_t, 3> q = grid->quantize(p);
+      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], q[k]), hi[k] = std::max(hi[k], q[k]);
+    }
+    const size_t position = b.add_accessor(
+        BinSource{BinSource::Kind::quantized_positions, nullptr, &m, 0, m.positions.size() * 8},
+        m.positions.size(), kUnsignedShort, "VEC3", kArrayBuffer, false, 8);
+    b.accessor(position)["min"] = lo;
+    b.accessor(position)["max"] = hi;
+    attributes["POSITION"] = position;
+    if (mesh.normals) {
+      attributes["NORMAL"] = b.add_accessor(
+          BinSource{BinSource::Kind::quantized_normals, nullptr, &m, 0, m.normals.size() * 4},
+          m.normals.size(), kByte, "VEC3", kArrayBuffer, true, 4);
+    }
+    if (mesh.colors) {
+      attributes["COLOR_0"] = b.add_bytes(m.colors.data(), m.colors.size() * 4, m.colors.size(),
+                                          kUnsignedByte, "VEC4", kArrayBuffer, true);
+    }
+    return attributes;
+  }
   Vec3f lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
            std::numeric_limits<float>::max()};
   Vec3f hi{-lo.x, -lo.y, -lo.z};
@@ -171,7 +255,8 @@ Json vertex_attributes(const GlbMesh& mesh, GlbBuilder& b) {
 }
 
 // The GLB container: header, JSON chunk and BIN chunk, the binary data streamed from its sources.
-void write_container(const Json& gltf, const GlbBuilder& b, std::ostream& out) {
+void write_container(const Json& gltf, const GlbBuilder& b, const std::optional<QuantGrid>& grid,
+                     std::ostream& out) {
   const size_t bin_size = b.bin_size();
   // Names may come from Latin-1 file headers; invalid UTF-8 becomes U+FFFD instead of a throw.
   std::string json = gltf.dump(-1, ' ', false, Json::error_handler_t::replace);
@@ -206,13 +291,32 @@ void write_container(const Json& gltf, const GlbBuilder& b, std::ostream& out) {
     pad_to(source.offset);
     if (source.kind == BinSource::Kind::bytes) {
       pieces.bytes(source.data, source.bytes);
+    } else if (source.kind == BinSource::Kind::quantized_positions) {
+      const TriMesh& m = *source.mesh;
+      const QuantGrid g = *grid;
+      pieces.records(m.positions.size(), 8, [&m, g](size_t v, char* p) {
+        const std::array<uint16_t, 3> q = g.quantize(m.positions[v]);
+        for (int k = 0; k < 3; ++k) put_le<uint16_t>(p + 2 * k, q[k]);
+        put_le<uint16_t>(p + 6, 0);
+        return p + 8;
+      });
+    } else if (source.kind == BinSource::Kind::short_indices) {
+      const auto* indices = static_cast<const uint32_t*>(source.data);
+      pieces.records(source.bytes / 2, 2, [indices](size_t i, char* p) {
+        put_le<uint16_t>(p, static_cast<uint16_t>(indices[i]));
+        return p + 2;
+      });
     } else {
+      // Normals, unit length, as floats (12 bytes) or quantized (4), filled piece by piece.
+      const bool quantized = source.kind == BinSource::Kind::quantized_normals;
+      const size_t size = quantized ? 4 : 12;
       UnitNormals& unit = *normals.emplace_back(std::make_unique<UnitNormals>(*source.mesh));
-      pieces.items(source.mesh->normals.size(), kPieceBytes / 12,
-                   [&unit](size_t begin, size_t end, ChunkBuffer& buffer) {
-                     char* p = buffer.room((end - begin) * 12);
-                     unit.fill(begin, end, p);
-                     buffer.commit(p + (end - begin) * 12);
+      pieces.items(source.mesh->normals.size(), kPieceBytes / size,
+                   [&unit, quantized, size](size_t begin, size_t end, ChunkBuffer& buffer) {
+                     char* p = buffer.room((end - begin) * size);
+                     if (quantized) unit.fill_quantized(begin, end, p);
+                     else unit.fill(begin, end, p);
+                     buffer.commit(p + (end - begin) * size);
                      return buffer.view();
                    });
     }
@@ -220,6 +324,26 @@ void write_container(const Json& gltf, const GlbBuilder& b, std::ostream& out) {
   }
   pad_to(bin_size);
   pieces.write(out);
+}
+
+// The grid over every position of the scene's meshes (glb_document.hpp).
+QuantGrid scene_grid(const GlbScene& scene) {
+  Vec3d lo{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+           std::numeric_limits<double>::max()};
+  Vec3d hi{-lo.x, -lo.y, -lo.z};
+  for (const GlbMesh& mesh : scene.meshes) {
+    if (mesh.primitives.empty()) continue;
+    for (const Vec3f& p : mesh.vertices->positions) {
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+        throw Error("glTF mesh '" + mesh.name + "' has a position that is not finite; it cannot be quantized");
+      }
+      lo = {std::min(lo.x, double(p.x)), std::min(lo.y, double(p.y)), std::min(lo.z, double(p.z))};
+      hi = {std::max(hi.x, double(p.x)), std::max(hi.y, double(p.y)), std::max(hi.z, double(p.z))};
+    }
+  }
+  if (!(lo.x <= hi.x)) return QuantGrid{};  // no positions
+  const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+  return QuantGrid{lo, extent > 0 ? extent / 65535.0 : 1.0};
 }
 
 }  // namespace
@@ -231,15 +355,22 @@ void write_glb_scene(const GlbScene& scene, std::ostream& out) {
   Json children = Json::array();
   nodes.push_back(nullptr);  // the root goes first; filled in once its children are known
 
+  const std::optional<QuantGrid> grid = scene.quantize ? std::optional(scene_grid(scene)) : std::nullopt;
   for (const GlbMesh& mesh : scene.meshes) {
     if (mesh.primitives.empty()) continue;
-    const Json attributes = vertex_attributes(mesh, b);
+    const Json attributes = vertex_attributes(mesh, grid, b);
+    const bool short_indices = grid && mesh.vertices->positions.size() <= 65535;
     Json primitives = Json::array();
     for (const GlbPrimitive& primitive : mesh.primitives) {
       static_assert(std::endian::native == std::endian::little, "GLB data are little-endian");
+      const size_t count = primitive.indices.size();
       const size_t indices =
-          b.add_bytes(primitive.indices.data(), primitive.indices.size() * 4,
-                      primitive.indices.size(), kUnsignedInt, "SCALAR", kElementArrayBuffer);
+          short_indices
+              ? b.add_accessor(BinSource{BinSource::Kind::short_indices, primitive.indices.data(),
+                                         nullptr, 0, count * 2},
+                               count, kUnsignedShort, "SCALAR", kElementArrayBuffer)
+              : b.add_bytes(primitive.indices.data(), count * 4, count, kUnsignedInt, "SCALAR",
+                            kElementArrayBuffer);
       Json p{{"attributes", attributes}, {"indices", indices}, {"material", primitive.material},
              {"mode", 4}};
       if (!primitive.extras.empty()) p["extras"] = extras_json(primitive.extras);
@@ -247,7 +378,11 @@ void write_glb_scene(const GlbScene& scene, std::ostream& out) {
     }
     meshes.push_back(Json{{"name", mesh.name}, {"primitives", std::move(primitives)}});
     Json node{{"name", mesh.name}, {"mesh", meshes.size() - 1}};
-    if (!is_identity(mesh.matrix)) node["matrix"] = matrix_json(mesh.matrix);
+    if (grid) {
+      node["matrix"] = matrix_json(multiply(mesh.matrix, grid->dequantize()));
+    } else if (!is_identity(mesh.matrix)) {
+      node["matrix"] = matrix_json(mesh.matrix);
+    }
     if (!mesh.extras.empty()) node["extras"] = extras_json(mesh.extras);
     children.push_back(nodes.size());
     nodes.push_back(std::move(node));
@@ -266,6 +401,10 @@ void write_glb_scene(const GlbScene& scene, std::ostream& out) {
         {"root_transform",
          "node segmesh_scene maps LPS millimetres to glTF metres: gltf = 0.001 * (x, z, -y) "
          "(x Left, +Y Superior, +Z Anterior)"}}}};
+  if (grid && !meshes.empty()) {
+    gltf["extensionsUsed"] = Json::array({"KHR_mesh_quantization"});
+    gltf["extensionsRequired"] = Json::array({"KHR_mesh_quantization"});
+  }
   gltf["scene"] = 0;
   gltf["scenes"] = Json::array({Json{{"name", "segmesh"}, {"nodes", {0}}}});
   gltf["nodes"] = std::move(nodes);
@@ -276,7 +415,7 @@ void write_glb_scene(const GlbScene& scene, std::ostream& out) {
     gltf["bufferViews"] = std::move(b.views());
   }
   if (b.bin_size() > 0) gltf["buffers"] = Json::array({Json{{"byteLength", b.bin_size()}}});
-  write_container(gltf, b, out);
+  write_container(gltf, b, grid, out);
 }
 
 }  // namespace segmesh::mesh_io
