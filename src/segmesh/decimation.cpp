@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
-#include <queue>
+#include <bit>
 
 #include "segmesh/detail/edge_flips.hpp"
 #include "segmesh/detail/fold_repair.hpp"
@@ -35,6 +35,48 @@ struct Candidate {
   }
 };
 
+// The candidates by cost, cheapest first, in buckets 1/16 of an octave wide (4.4 %): a bucket is
+// the top 16 bits of the cost's double (sign, exponent, 4 bits of mantissa), which order positive
+// doubles as the doubles do. Costs at or below 2^-40 mm share the first bucket, above 2^24 the
+// last. Within a bucket the last pushed comes first: the collapses near the last one, whose
+// vertices are still in cache. A binary heap of the ~4 M candidates a million-triangle surface
+// pushes spent more than half of the decimation in cache misses; pushing and popping here touch
+// the ends of short arrays. Deterministic: the order depends only on the pushes.
+class CostBuckets {
+ public:
+  CostBuckets() : buckets_(bucket(std::numeric_limits<double>::infinity()) + 1) {}
+  bool empty() {
+    while (first_ < buckets_.size() && buckets_[first_].empty()) ++first_;
+    return first_ == buckets_.size();
+  }
+  void push(const Candidate& c) {
+    const size_t b = bucket(c.cost);
+    buckets_[b].push_back(c);
+    first_ = std::min(first_, b);
+  }
+  // The cheapest bucket's last candidate, removed; call only when !empty().
+  Candidate pop() {
+    Candidate c = buckets_[first_].back();
+    buckets_[first_].pop_back();
+    return c;
+  }
+
+ private:
+  static size_t bucket(double cost) {
+    constexpr double lowest = 0x1p-40, highest = 0x1p24;
+    const uint64_t base = std::bit_cast<uint64_t>(lowest) >> 48;
+    if (!(cost > lowest)) return 0;
+    return size_t((std::bit_cast<uint64_t>(std::min(cost, highest)) >> 48) - base);
+  }
+  std::vector<std::vector<Candidate>> buckets_;
+  size_t first_ = 0;
+};
+
+// The edge flips after the collapses may move the surface by this share of error_mm (or of the
+// largest collapse cost, when smaller); the collapses keep the original vertices within the rest,
+// so the two together stay within error_mm.
+constexpr double kFlipToleranceShare = 0.25;
+
 constexpr double kMaxNormalTurnCos = 0.5;  // 60 degrees
 constexpr double kSliver = 0.02;  // decimation.hpp says why not 0.05
 constexpr double kPlaneWeight = 1.0 / 3;
@@ -42,7 +84,7 @@ constexpr double kPlaneWeight = 1.0 / 3;
 class Collapser {
  public:
   Collapser(LabelledSurface& s, const DecimateOptions& options, std::span<const int64_t> budgets)
-      : s_(s), options_(options) {
+      : s_(s), options_(options), limit_mm_(options.error_mm * (1 - kFlipToleranceShare)) {
     const size_t nv = s.mesh.positions.size(), nt = s.sides.size();
     pos_.resize(nv);
     for (size_t v = 0; v < nv; ++v) pos_[v] = to_double(s.mesh.positions[v]);
@@ -53,6 +95,7 @@ class Collapser {
     original_ = pos_;
     absorbed_.resize(nv);
     for (uint32_t v = 0; v < nv; ++v) absorbed_[v].push_back(v);
+    witness_.assign(nv, ~0u);
     tris_.resize(nv);
     alive_tri_.assign(nt, 1);
     alive_vertex_.assign(nv, 1);
@@ -71,7 +114,10 @@ class Collapser {
         for (double& x : q.q) x *= kPlaneWeight;
         for (int c = 0; c < 3; ++c) quadric_[i[c]] += q;
       }
-      for (int c = 0; c < 3; ++c) tris_[i[c]].push_back(t);
+      for (int c = 0; c < 3; ++c) {
+        tris_[i[c]].push_back(t);
+        witness_[i[c]] = t;  // distance 0
+      }
       for (uint32_t m : s.sides[t])
         if (m != 0) ++count_[m];
     }
@@ -80,17 +126,17 @@ class Collapser {
   DecimationStats run() {
     for (uint32_t v = 0; v < pos_.size(); ++v) push_edges(v, /*higher_only=*/true);
     DecimationStats stats;
-    while (!heap_.empty()) {
-      const Candidate c = heap_.top();
-      heap_.pop();
+    while (!queue_.empty()) {
+      const Candidate c = queue_.pop();
       if (!alive_vertex_[c.remove] || !alive_vertex_[c.keep] ||
           version_[c.remove] != c.remove_version || version_[c.keep] != c.keep_version)
         continue;
-      const bool within_error = options_.error_mm > 0 && c.cost <= options_.error_mm;
-      if (!within_error && !has_budget_) break;  // every later candidate costs more
+      const bool within_error = limit_mm_ > 0 && c.cost <= limit_mm_;
+      if (!within_error && !has_budget_) continue;  // never pushed (push_edges)
       if (!within_error && !removes_from_part_over_budget(c.remove, c.keep)) continue;
       if (!allowed(c)) continue;
-      if (within_error && !keeps_absorbed_points(c)) continue;
+      pending_.clear();
+      if (within_error && !keeps_original_points(c)) continue;
       if (crosses_nearby(c)) continue;
       apply(c);
       ++stats.collapses;
@@ -204,7 +250,7 @@ class Collapser {
       if (higher_only && w < v) continue;
       const auto c = candidate(v, w);
       // Without a budget a collapse above the error bound is never made: not worth a heap entry.
-      if (c && (has_budget_ || c->cost <= options_.error_mm)) heap_.push(*c);
+      if (c && (has_budget_ || c->cost <= limit_mm_)) queue_.push(*c);
     }
   }
 
@@ -289,32 +335,52 @@ class Collapser {
     return true;
   }
 
-  // Every original vertex the two vertices stand for lies within error_mm of the triangles
-  // around the merged vertex: the quadric bounds distances to planes, this one to the triangles.
-  bool keeps_absorbed_points(const Candidate& c) const {
+  // Every original vertex stays within limit_mm_ of a live triangle, its witness. A collapse
+  // changes the triangles around u and v (moved, renumbered or gone); every original vertex whose
+  // witness is one of them needs a new one among the triangles, as they will be after the
+  // collapse, of the vertex that stands for it. When all find one the collapse keeps the bound
+  // and the new witnesses wait in pending_ for apply. (A bound on the original vertices, not on
+  // every point of the original triangles: the tests measure those.)
+  bool keeps_original_points(const Candidate& c) {
     const uint32_t u = c.remove, v = c.keep;
-    std::vector<std::array<Vec3d, 3>> fan;
-    for (uint32_t x : {u, v})
-      for (uint32_t t : tris_[x]) {
-        if (!alive_tri_[t] || (x == u && has(t, v))) continue;
-        if (x == v && has(t, u)) continue;
-        const uint32_t* i = &s_.mesh.indices[3 * size_t(t)];
-        std::array<Vec3d, 3> p;
-        for (int k = 0; k < 3; ++k) p[size_t(k)] = i[k] == u || i[k] == v ? c.position : pos_[i[k]];
-        fan.push_back(p);
-      }
-    const double limit2 = options_.error_mm * options_.error_mm;
-    for (uint32_t x : {u, v})
+    pending_.clear();
+    std::vector<uint32_t> affected = neighbours(u), nv = neighbours(v);
+    affected.insert(affected.end(), nv.begin(), nv.end());
+    affected.push_back(u);
+    affected.push_back(v);
+    std::sort(affected.begin(), affected.end());
+    affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
+    const double limit2 = limit_mm_ * limit_mm_;
+    auto corner = [&](uint32_t i) { return i == u || i == v ? c.position : pos_[i]; };
+    for (uint32_t x : affected) {
+      bool have_fan = false;
       for (uint32_t o : absorbed_[x]) {
-        const Vec3d q = original_[o];
-        double best = std::numeric_limits<double>::infinity();
-        for (const auto& p : fan) {
-          const Vec3d d = closest_point_on_triangle(q, p[0], p[1], p[2]) - q;
-          best = std::min(best, dot(d, d));
-          if (best <= limit2) break;
+        const uint32_t w = witness_[o];
+        if (w != ~0u && alive_tri_[w] && !has(w, u) && !has(w, v)) continue;
+        if (!have_fan) {
+          // x's triangles after the collapse (u's and v's together for either of them).
+          fan_.clear();
+          for (uint32_t y : {x, x == u ? v : x == v ? u : x})
+            for (uint32_t t : tris_[y]) {
+              if (!alive_tri_[t] || (has(t, u) && has(t, v))) continue;
+              const uint32_t* i = &s_.mesh.indices[3 * size_t(t)];
+              fan_.push_back({t, {corner(i[0]), corner(i[1]), corner(i[2])}});
+            }
+          have_fan = true;
         }
-        if (best > limit2) return false;
+        const Vec3d q = original_[o];
+        uint32_t found = ~0u;
+        for (const auto& [t, p] : fan_) {
+          const Vec3d d = closest_point_on_triangle(q, p[0], p[1], p[2]) - q;
+          if (dot(d, d) <= limit2) {
+            found = t;
+            break;
+          }
+        }
+        if (found == ~0u) return false;
+        pending_.push_back({o, found});
       }
+    }
     return true;
   }
 
@@ -392,6 +458,7 @@ class Collapser {
     if (absorbed_[v].size() < absorbed_[u].size()) absorbed_[v].swap(absorbed_[u]);
     absorbed_[v].insert(absorbed_[v].end(), absorbed_[u].begin(), absorbed_[u].end());
     std::vector<uint32_t>().swap(absorbed_[u]);
+    for (const auto& [o, t] : pending_) witness_[o] = t;
     junction_[v] |= junction_[u];  // where the shell may touch itself, v now stands
     // Dead triangles leave the lists of the vertices around.
     for (uint32_t w : neighbours(v)) prune(w);
@@ -444,17 +511,18 @@ class Collapser {
   std::vector<Quadric> quadric_;
   std::vector<Vec3d> original_;                  // the positions before decimation
   std::vector<std::vector<uint32_t>> absorbed_;  // the original vertices each vertex stands for
+  std::vector<uint32_t> witness_;  // per original vertex: a live triangle within limit_mm_
+  std::vector<std::pair<uint32_t, uint32_t>> pending_;  // new witnesses of the collapse checked
+  std::vector<std::pair<uint32_t, std::array<Vec3d, 3>>> fan_;  // scratch
+  double limit_mm_ = 0;
   std::vector<std::vector<uint32_t>> tris_;
   std::vector<char> alive_tri_, alive_vertex_;
   std::vector<uint32_t> version_;
   std::vector<int64_t> count_, budget_;  // by material
   bool has_budget_ = false;
-  std::priority_queue<Candidate> heap_;
+  CostBuckets queue_;
 };
 
-// The largest collapse error, for the flips' tolerance: a flip may move the surface by a quarter
-// of it.
-constexpr double kFlipToleranceShare = 0.25;
 
 }  // namespace
 
