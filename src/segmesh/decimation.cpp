@@ -6,7 +6,9 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <utility>
 #include <bit>
+#include <deque>
 
 #include "segmesh/detail/edge_flips.hpp"
 #include "segmesh/detail/fold_repair.hpp"
@@ -78,12 +80,58 @@ class CostBuckets {
 constexpr double kFlipToleranceShare = 0.25;
 
 constexpr double kMaxNormalTurnCos = 0.5;  // 60 degrees
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kSliver = 0.02;  // decimation.hpp says why not 0.05
 constexpr double kPlaneWeight = 1.0 / 3;
 
+// Lists of vertex or triangle ids for the checks, reused: a check allocates nothing once the
+// lists have grown (the allocations of fresh lists were a fifth of the decimation's time).
+class ListPool {
+ public:
+  using List = std::vector<uint32_t>;
+  // A cleared list, returned to the pool when the lease ends; bind it to a name.
+  class Lease {
+   public:
+    Lease(ListPool& pool, List& list) : pool_(&pool), list_(&list) {}
+    Lease(Lease&& o) noexcept : pool_(std::exchange(o.pool_, nullptr)), list_(o.list_) {}
+    Lease(const Lease&) = delete;
+    Lease& operator=(const Lease&) = delete;
+    Lease& operator=(Lease&&) = delete;
+    ~Lease() {
+      if (pool_) pool_->free_.push_back(list_);
+    }
+    List& operator*() const { return *list_; }
+    List* operator->() const { return list_; }
+
+   private:
+    ListPool* pool_;
+    List* list_;
+  };
+  Lease take() {
+    if (free_.empty()) free_.push_back(&all_.emplace_back());
+    List& list = *free_.back();
+    free_.pop_back();
+    list.clear();
+    return Lease(*this, list);
+  }
+
+ private:
+  std::deque<List> all_;  // stable addresses
+  std::vector<List*> free_;
+};
+
+// An original vertex as a decimated vertex stands for it: where it was, and its witness (a live
+// triangle within the bound; ~0u for a vertex of no triangle). Kept in the standing vertex's list,
+// so a check reads them in a row.
+struct Original {
+  Vec3f position;
+  uint32_t witness;
+};
+
 class Collapser {
  public:
-  Collapser(LabelledSurface& s, const DecimateOptions& options, std::span<const int64_t> budgets)
+  Collapser(LabelledSurface& s, const DecimateOptions& options, std::span<const int64_t> budgets,
+            int64_t surface_budget)
       : s_(s), options_(options), limit_mm_(options.error_mm * (1 - kFlipToleranceShare)) {
     const size_t nv = s.mesh.positions.size(), nt = s.sides.size();
     pos_.resize(nv);
@@ -92,10 +140,8 @@ class Collapser {
     junction_.assign(nv, 0);
     for (uint32_t v : s.junction_vertices) junction_[v] = 1;
     quadric_.resize(nv);
-    original_ = pos_;
     absorbed_.resize(nv);
-    for (uint32_t v = 0; v < nv; ++v) absorbed_[v].push_back(v);
-    witness_.assign(nv, ~0u);
+    for (uint32_t v = 0; v < nv; ++v) absorbed_[v].push_back({s.mesh.positions[v], ~0u});
     tris_.resize(nv);
     alive_tri_.assign(nt, 1);
     alive_vertex_.assign(nv, 1);
@@ -103,7 +149,9 @@ class Collapser {
     count_.assign(s.part_count + 1, 0);
     budget_.assign(s.part_count + 1, 0);
     for (size_t p = 0; p < budgets.size() && p < s.part_count; ++p) budget_[p + 1] = budgets[p];
-    has_budget_ = std::any_of(budget_.begin(), budget_.end(), [](int64_t b) { return b > 0; });
+    surface_budget_ = surface_budget;
+    has_budget_ = surface_budget_ > 0 ||
+                  std::any_of(budget_.begin(), budget_.end(), [](int64_t b) { return b > 0; });
     for (uint32_t t = 0; t < nt; ++t) {
       const uint32_t* i = &s.mesh.indices[3 * size_t(t)];
       const Vec3d n = cross(pos_[i[1]] - pos_[i[0]], pos_[i[2]] - pos_[i[0]]);
@@ -116,7 +164,7 @@ class Collapser {
       }
       for (int c = 0; c < 3; ++c) {
         tris_[i[c]].push_back(t);
-        witness_[i[c]] = t;  // distance 0
+        absorbed_[i[c]][0].witness = t;  // distance 0
       }
       for (uint32_t m : s.sides[t])
         if (m != 0) ++count_[m];
@@ -135,8 +183,8 @@ class Collapser {
       if (!within_error && !has_budget_) continue;  // never pushed (push_edges)
       if (!within_error && !removes_from_part_over_budget(c.remove, c.keep)) continue;
       if (!allowed(c)) continue;
-      pending_.clear();
-      if (within_error && !keeps_original_points(c)) continue;
+      // Beyond the error bound (a budget's collapse) the witnesses are only kept alive.
+      if (!keeps_original_points(c, within_error ? limit_mm_ * limit_mm_ : kInfinity)) continue;
       if (crosses_nearby(c)) continue;
       apply(c);
       ++stats.collapses;
@@ -177,8 +225,9 @@ class Collapser {
 
   // The neighbours of v over its live triangles that hold material m (all when m is ~0u),
   // sorted and unique.
-  std::vector<uint32_t> neighbours(uint32_t v, uint32_t m = ~0u) const {
-    std::vector<uint32_t> out;
+  ListPool::Lease neighbours(uint32_t v, uint32_t m = ~0u) const {
+    ListPool::Lease lease = pool_.take();
+    std::vector<uint32_t>& out = *lease;
     for (uint32_t t : tris_[v]) {
       if (!alive_tri_[t]) continue;
       if (m != ~0u && s_.sides[t][0] != m && s_.sides[t][1] != m) continue;
@@ -188,13 +237,14 @@ class Collapser {
     }
     std::sort(out.begin(), out.end());
     out.erase(std::unique(out.begin(), out.end()), out.end());
-    return out;
+    return lease;
   }
 
-  std::vector<uint32_t> curve_neighbours(uint32_t v) const {
-    std::vector<uint32_t> out;
-    for (uint32_t w : neighbours(v))
-      if (junction_edge(v, w)) out.push_back(w);
+  ListPool::Lease curve_neighbours(uint32_t v) const {
+    ListPool::Lease out = pool_.take();
+    const ListPool::Lease all = neighbours(v);
+    for (uint32_t w : *all)
+      if (junction_edge(v, w)) out->push_back(w);
     return out;
   }
 
@@ -246,7 +296,8 @@ class Collapser {
   }
 
   void push_edges(uint32_t v, bool higher_only) {
-    for (uint32_t w : neighbours(v)) {
+    const ListPool::Lease around = neighbours(v);
+    for (uint32_t w : *around) {
       if (higher_only && w < v) continue;
       const auto c = candidate(v, w);
       // Without a budget a collapse above the error bound is never made: not worth a heap entry.
@@ -254,7 +305,10 @@ class Collapser {
     }
   }
 
+  // Whether a collapse of (u, v) beyond the error bound is wanted: the shells hold more triangles
+  // than the surface's budget, or a part whose triangles it removes is above its own.
   bool removes_from_part_over_budget(uint32_t u, uint32_t v) const {
+    if (surface_budget_ > 0 && shell_triangles() > surface_budget_) return true;
     bool over = false;
     for_edge_triangles(u, v, [&](uint32_t t) {
       for (uint32_t m : s_.sides[t])
@@ -266,7 +320,8 @@ class Collapser {
   bool allowed(const Candidate& c) const {
     const uint32_t u = c.remove, v = c.keep;
     // Triangle counts: no part below the minimum.
-    std::vector<uint32_t> removed;
+    const ListPool::Lease removed_lease = pool_.take();
+    std::vector<uint32_t>& removed = *removed_lease;
     for_edge_triangles(u, v, [&](uint32_t t) { removed.push_back(t); });
     if (removed.empty()) return false;
     for (size_t m = 1; m < count_.size(); ++m) {
@@ -275,8 +330,7 @@ class Collapser {
       if (lost > 0 && count_[m] - lost < kMinPartTriangles) return false;
     }
     // Link conditions: on the whole surface and in every part's shell.
-    auto apexes = [&](uint32_t m) {
-      std::vector<uint32_t> out;
+    auto apexes = [&](uint32_t m, std::vector<uint32_t>& out) {
       for (uint32_t t : removed) {
         if (m != ~0u && s_.sides[t][0] != m && s_.sides[t][1] != m) continue;
         const uint32_t* i = &s_.mesh.indices[3 * size_t(t)];
@@ -285,19 +339,19 @@ class Collapser {
       }
       std::sort(out.begin(), out.end());
       out.erase(std::unique(out.begin(), out.end()), out.end());
-      return out;
     };
     auto link_holds = [&](uint32_t m) {
-      const std::vector<uint32_t> nu = neighbours(u, m), nv = neighbours(v, m);
-      if (nu.empty() || nv.empty()) return true;  // not both in this shell
-      std::vector<uint32_t> common;
-      std::set_intersection(nu.begin(), nu.end(), nv.begin(), nv.end(), std::back_inserter(common));
-      const std::vector<uint32_t> ap = apexes(m);
-      if (ap.empty()) return false;  // both in the shell, no edge of it between them
-      return common == ap;
+      const ListPool::Lease nu = neighbours(u, m), nv = neighbours(v, m);
+      if (nu->empty() || nv->empty()) return true;  // not both in this shell
+      const ListPool::Lease common = pool_.take(), ap = pool_.take();
+      std::set_intersection(nu->begin(), nu->end(), nv->begin(), nv->end(), std::back_inserter(*common));
+      apexes(m, *ap);
+      if (ap->empty()) return false;  // both in the shell, no edge of it between them
+      return *common == *ap;
     };
     if (!link_holds(~0u)) return false;
-    std::vector<uint32_t> materials;
+    const ListPool::Lease materials_lease = pool_.take();
+    std::vector<uint32_t>& materials = *materials_lease;
     for (uint32_t x : {u, v})
       for (uint32_t t : tris_[x])
         if (alive_tri_[t])
@@ -309,9 +363,9 @@ class Collapser {
       if (!link_holds(m)) return false;
     // A curve collapse must not close its curve into a loop of two edges.
     if (role_[u] == SmoothRole::kCurve) {
-      const std::vector<uint32_t> cu = curve_neighbours(u), cv = curve_neighbours(v);
-      for (uint32_t w : cu)
-        if (w != v && std::find(cv.begin(), cv.end(), w) != cv.end()) return false;
+      const ListPool::Lease cu = curve_neighbours(u), cv = curve_neighbours(v);
+      for (uint32_t w : *cu)
+        if (w != v && std::find(cv->begin(), cv->end(), w) != cv->end()) return false;
     }
     // Geometry: no turned, degenerate or new sliver triangle.
     double worst_before = 1, worst_after = 1;
@@ -341,22 +395,31 @@ class Collapser {
   // collapse, of the vertex that stands for it. When all find one the collapse keeps the bound
   // and the new witnesses wait in pending_ for apply. (A bound on the original vertices, not on
   // every point of the original triangles: the tests measure those.)
-  bool keeps_original_points(const Candidate& c) {
+  bool keeps_original_points(const Candidate& c, double limit2) {
     const uint32_t u = c.remove, v = c.keep;
     pending_.clear();
-    std::vector<uint32_t> affected = neighbours(u), nv = neighbours(v);
-    affected.insert(affected.end(), nv.begin(), nv.end());
+    // The triangles the collapse changes: every witness stays a live triangle, so one not among
+    // these keeps its place and distance.
+    const ListPool::Lease changed = pool_.take();
+    for (uint32_t x : {u, v})
+      for (uint32_t t : tris_[x]) changed->push_back(t);
+    const ListPool::Lease affected_lease = neighbours(u);
+    std::vector<uint32_t>& affected = *affected_lease;
+    {
+      const ListPool::Lease nv = neighbours(v);
+      affected.insert(affected.end(), nv->begin(), nv->end());
+    }
     affected.push_back(u);
     affected.push_back(v);
     std::sort(affected.begin(), affected.end());
     affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
-    const double limit2 = limit_mm_ * limit_mm_;
     auto corner = [&](uint32_t i) { return i == u || i == v ? c.position : pos_[i]; };
     for (uint32_t x : affected) {
       bool have_fan = false;
-      for (uint32_t o : absorbed_[x]) {
-        const uint32_t w = witness_[o];
-        if (w != ~0u && alive_tri_[w] && !has(w, u) && !has(w, v)) continue;
+      const std::vector<Original>& originals = absorbed_[x];
+      for (uint32_t k = 0; k < originals.size(); ++k) {
+        const uint32_t w = originals[k].witness;
+        if (w == ~0u || std::find(changed->begin(), changed->end(), w) == changed->end()) continue;
         if (!have_fan) {
           // x's triangles after the collapse (u's and v's together for either of them).
           fan_.clear();
@@ -368,7 +431,7 @@ class Collapser {
             }
           have_fan = true;
         }
-        const Vec3d q = original_[o];
+        const Vec3d q = to_double(originals[k].position);
         uint32_t found = ~0u;
         for (const auto& [t, p] : fan_) {
           const Vec3d d = closest_point_on_triangle(q, p[0], p[1], p[2]) - q;
@@ -378,7 +441,7 @@ class Collapser {
           }
         }
         if (found == ~0u) return false;
-        pending_.push_back({o, found});
+        pending_.push_back({x, k, found});
       }
     }
     return true;
@@ -390,11 +453,16 @@ class Collapser {
   bool crosses_nearby(const Candidate& c) const {
     const uint32_t u = c.remove, v = c.keep;
     // Sheet vertices all around: every triangle within two rings is of their one interface.
-    std::vector<uint32_t> near = neighbours(u), nv = neighbours(v);
-    near.insert(near.end(), nv.begin(), nv.end());
+    const ListPool::Lease near_lease = neighbours(u);
+    std::vector<uint32_t>& near = *near_lease;
+    {
+      const ListPool::Lease nv = neighbours(v);
+      near.insert(near.end(), nv->begin(), nv->end());
+    }
     if (std::all_of(near.begin(), near.end(), [&](uint32_t w) { return role_[w] == SmoothRole::kSheet; }))
       return false;
-    std::vector<uint32_t> ring;
+    const ListPool::Lease ring_lease = pool_.take();
+    std::vector<uint32_t>& ring = *ring_lease;
     for (uint32_t w : near)
       for (uint32_t t : tris_[w])
         if (alive_tri_[t] && !(has(t, u) && has(t, v))) ring.push_back(t);
@@ -455,13 +523,16 @@ class Collapser {
     ++version_[v];
     pos_[v] = c.position;
     quadric_[v] += quadric_[u];
+    for (const PendingWitness& w : pending_) absorbed_[w.vertex][w.index].witness = w.triangle;
     if (absorbed_[v].size() < absorbed_[u].size()) absorbed_[v].swap(absorbed_[u]);
     absorbed_[v].insert(absorbed_[v].end(), absorbed_[u].begin(), absorbed_[u].end());
-    std::vector<uint32_t>().swap(absorbed_[u]);
-    for (const auto& [o, t] : pending_) witness_[o] = t;
+    std::vector<Original>().swap(absorbed_[u]);
     junction_[v] |= junction_[u];  // where the shell may touch itself, v now stands
     // Dead triangles leave the lists of the vertices around.
-    for (uint32_t w : neighbours(v)) prune(w);
+    {
+      const ListPool::Lease around = neighbours(v);
+      for (uint32_t w : *around) prune(w);
+    }
     prune(v);
     push_edges(v, false);
   }
@@ -509,17 +580,23 @@ class Collapser {
   std::vector<SmoothRole> role_;
   std::vector<char> junction_;  // the surface's junction_vertices and the vertices they merged into
   std::vector<Quadric> quadric_;
-  std::vector<Vec3d> original_;                  // the positions before decimation
-  std::vector<std::vector<uint32_t>> absorbed_;  // the original vertices each vertex stands for
-  std::vector<uint32_t> witness_;  // per original vertex: a live triangle within limit_mm_
-  std::vector<std::pair<uint32_t, uint32_t>> pending_;  // new witnesses of the collapse checked
+  std::vector<std::vector<Original>> absorbed_;  // the original vertices each vertex stands for
+  // A new witness for absorbed_[vertex][index], found by the last check, set by apply.
+  struct PendingWitness {
+    uint32_t vertex, index, triangle;
+  };
+  std::vector<PendingWitness> pending_;
+  mutable ListPool pool_;
   std::vector<std::pair<uint32_t, std::array<Vec3d, 3>>> fan_;  // scratch
   double limit_mm_ = 0;
   std::vector<std::vector<uint32_t>> tris_;
   std::vector<char> alive_tri_, alive_vertex_;
   std::vector<uint32_t> version_;
   std::vector<int64_t> count_, budget_;  // by material
+  int64_t surface_budget_ = 0;           // for the shells' triangles together
   bool has_budget_ = false;
+
+  int64_t shell_triangles() const { return std::accumulate(count_.begin() + 1, count_.end(), int64_t{0}); }
   CostBuckets queue_;
 };
 
@@ -554,9 +631,9 @@ std::vector<int64_t> part_triangle_budgets(const std::vector<double>& areas,
 }
 
 DecimationStats decimate_surface(LabelledSurface& surface, const DecimateOptions& options,
-                                 std::span<const int64_t> budgets) {
+                                 std::span<const int64_t> budgets, int64_t surface_budget) {
   if (!options.active() || surface.sides.empty()) return {};
-  DecimationStats stats = Collapser(surface, options, budgets).run();
+  DecimationStats stats = Collapser(surface, options, budgets, surface_budget).run();
   const double tolerance =
       kFlipToleranceShare * std::min(stats.largest_cost_mm,
                                      options.error_mm > 0 ? options.error_mm : stats.largest_cost_mm);
@@ -566,14 +643,18 @@ DecimationStats decimate_surface(LabelledSurface& surface, const DecimateOptions
 
 DecimationStats decimate_scene(Scene& scene, const DecimateOptions& options) {
   if (!options.active()) return {};
-  std::vector<double> areas;
-  for (const Part& part : scene.parts) areas.push_back(surface_area(part.mesh));
-  const std::vector<int64_t> budgets = part_triangle_budgets(areas, options);
   if (scene.surface) {
-    const DecimationStats stats = decimate_surface(*scene.surface, options, budgets);
+    // One surface, one order of collapses: the scene's budget is the surface's, so the error
+    // evens out over the parts instead of each part stopping at its area's share.
+    const std::vector<int64_t> per_part(scene.parts.size(), options.max_triangles_per_part);
+    const DecimationStats stats =
+        decimate_surface(*scene.surface, options, per_part, options.max_triangles);
     set_part_shells(scene);
     return stats;
   }
+  std::vector<double> areas;
+  for (const Part& part : scene.parts) areas.push_back(surface_area(part.mesh));
+  const std::vector<int64_t> budgets = part_triangle_budgets(areas, options);
   std::vector<DecimationStats> each(scene.parts.size());
   tbb::parallel_for(size_t{0}, scene.parts.size(), [&](size_t p) {
     TriMesh& mesh = scene.parts[p].mesh;

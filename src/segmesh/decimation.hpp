@@ -43,10 +43,13 @@
 //   - bring any part below `min_part_triangles` (32: a screw stays an elongated solid with its
 //     thread's outline and does not shrink toward a tetrahedron; the shells' topology checks need
 //     more than four vertices anyway).
-// Stop: with `error_mm` alone, when the cheapest collapse costs more; with a budget (per part:
-// part_triangle_budgets), a collapse more expensive than `error_mm` is still made while a part
-// whose triangles it removes is above its budget ("the budget wins"), until no collapse is
-// possible.
+// Stop: with `error_mm` alone, when the cheapest collapse costs more; with a budget, a collapse
+// more expensive than `error_mm` is still made while the budget is exceeded ("the budget wins"),
+// until no collapse is possible. On a conforming scene (one surface) the scene's budget is the
+// surface's: the shells' triangles together, collapsed cheapest first over all parts, so the
+// error evens out between them; on independent surfaces (each part alone, in parallel) every part
+// gets the share of its area (part_triangle_budgets). The per-part budget holds for each part on
+// both.
 //
 // Afterwards a few passes of edge flips improve the triangles' shape (detail/edge_flips.hpp).
 //
@@ -70,7 +73,7 @@ struct Scene;
 
 struct DecimateOptions {
   double error_mm = 0;                 // > 0: collapse while the quadric error stays below
-  int64_t max_triangles = 0;           // > 0: the scene's budget, shared by area
+  int64_t max_triangles = 0;           // > 0: the scene's budget (see "Stop" above)
   int64_t max_triangles_per_part = 0;  // > 0: every part's budget
   bool active() const { return error_mm > 0 || max_triangles > 0 || max_triangles_per_part > 0; }
 };
@@ -96,9 +99,10 @@ struct DecimationStats {
 };
 
 // Decimates the surface in place (vertices renumbered, junction_vertices kept, normals and
-// colours cleared). `budgets` holds one budget per part (0: none).
+// colours cleared). `budgets` holds one budget per part (0: none); `surface_budget` (0: none) one
+// for the triangles of all parts' shells together (a contact's triangle counts in both shells).
 DecimationStats decimate_surface(LabelledSurface& surface, const DecimateOptions& options,
-                                 std::span<const int64_t> budgets);
+                                 std::span<const int64_t> budgets, int64_t surface_budget = 0);
 
 // The decimation step of the pipeline: the scene's surface (shells cut again) or every part's
 // mesh, each part's normals recomputed. Nothing when the options are not active.

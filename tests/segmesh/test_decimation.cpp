@@ -141,6 +141,27 @@ TEST(Decimation, BudgetsAreRespectedOnBothKindsOfSurfaces) {
   }
 }
 
+// A scene budget on the conforming phantom: one order of collapses over all parts, so the scene
+// ends at its budget (not below it, as shares by area rounded down and contacts counted twice
+// left it) and the error stays within two voxels of the smallest spacing everywhere.
+TEST(Decimation, ThePhantomToABudgetStaysWithinTwoVoxels) {
+  const Image image = small_phantom();
+  MeshingOptions o;
+  const Scene before = build_scene(image, o);
+  o.decimate.max_triangles = 12000;  // about 1/19 of the test-size phantom
+  const Scene after = build_scene(image, o);
+  ASSERT_TRUE(after.surface.has_value());
+  expect_sound_parts(after);
+  const int64_t n = total_triangles(after);
+  EXPECT_LE(n, 12000);
+  EXPECT_GE(n, 11800);
+  const double two_voxels = 2 * 0.394;
+  for (size_t p = 0; p < after.parts.size(); ++p) {
+    EXPECT_LE(sampled_hausdorff(before.parts[p].mesh, after.parts[p].mesh), two_voxels)
+        << after.parts[p].name;
+  }
+}
+
 TEST(Decimation, ThePhantomWithinTwoTenthsOfAMillimetreKeepsItsContacts) {
   const Image image = small_phantom();
   MeshingOptions o;
