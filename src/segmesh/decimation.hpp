@@ -95,6 +95,7 @@ std::vector<int64_t> part_triangle_budgets(const std::vector<double>& part_areas
 struct DecimationStats {
   int64_t collapses = 0;
   int64_t flips = 0;
+  int64_t relaxed = 0;  // vertex moves of the tangential relaxation
   double largest_cost_mm = 0;  // the largest quadric error of a collapse made
 };
 

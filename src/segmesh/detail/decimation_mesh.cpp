@@ -1,0 +1,229 @@
+#include "segmesh/detail/decimation_mesh.hpp"
+
+#include <algorithm>
+#include <limits>
+
+#include "segmesh/detail/surface_roles.hpp"
+#include "segmesh/mesh_distance.hpp"
+#include "segmesh/quality.hpp"
+
+namespace segmesh {
+
+namespace {
+constexpr double kPlaneWeight = 1.0 / 3;
+}  // namespace
+
+DecimationMesh::DecimationMesh(LabelledSurface& surface) : s(surface) {
+  const size_t nv = s.mesh.positions.size(), nt = s.sides.size();
+  pos.resize(nv);
+  for (size_t v = 0; v < nv; ++v) pos[v] = to_double(s.mesh.positions[v]);
+  role = surface_roles(s, InterfaceSides::either_way).smooth.role;
+  junction_vertex.assign(nv, 0);
+  for (uint32_t v : s.junction_vertices) junction_vertex[v] = 1;
+  quadric.resize(nv);
+  original = s.mesh.positions;
+  witness.assign(nv, ~0u);
+  witnessed.resize(nt);
+  tris.resize(nv);
+  alive_tri.assign(nt, 1);
+  alive_vertex.assign(nv, 1);
+  for (uint32_t t = 0; t < nt; ++t) {
+    const uint32_t* i = &s.mesh.indices[3 * size_t(t)];
+    const Vec3d n = cross(pos[i[1]] - pos[i[0]], pos[i[2]] - pos[i[0]]);
+    const double len = norm(n);
+    if (len > 0) {
+      const Vec3d u = (1 / len) * n;
+      Quadric q = plane_quadric(u, -dot(u, pos[i[0]]));
+      for (double& x : q.q) x *= kPlaneWeight;
+      for (int c = 0; c < 3; ++c) quadric[i[c]] += q;
+    }
+    for (int c = 0; c < 3; ++c) {
+      tris[i[c]].push_back(t);
+      if (witness[i[c]] == ~0u) {  // distance 0
+        witness[i[c]] = t;
+        witnessed[t].push_back(i[c]);
+      }
+    }
+  }
+}
+
+// A junction edge: its triangles separate two or more different pairs of materials.
+bool DecimationMesh::junction_edge(uint32_t a, uint32_t b) const {
+  bool found = false, mixed = false;
+  std::array<uint32_t, 2> first{};
+  for_edge_triangles(a, b, [&](uint32_t t) {
+    if (!found) {
+      first = s.sides[t];
+      found = true;
+    } else if (!same_interface(s.sides[t], first)) {
+      mixed = true;
+    }
+  });
+  return mixed;
+}
+
+// The neighbours of v over its live triangles that hold material m (all when m is ~0u),
+// sorted and unique.
+ListPool::Lease DecimationMesh::neighbours(uint32_t v, uint32_t m) const {
+  ListPool::Lease lease = pool.take();
+  std::vector<uint32_t>& out = *lease;
+  for (uint32_t t : tris[v]) {
+    if (!alive_tri[t]) continue;
+    if (m != ~0u && s.sides[t][0] != m && s.sides[t][1] != m) continue;
+    const uint32_t* i = &s.mesh.indices[3 * size_t(t)];
+    for (int c = 0; c < 3; ++c)
+      if (i[c] != v) out.push_back(i[c]);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return lease;
+}
+
+ListPool::Lease DecimationMesh::curve_neighbours(uint32_t v) const {
+  ListPool::Lease out = pool.take();
+  const ListPool::Lease all = neighbours(v);
+  for (uint32_t w : *all)
+    if (junction_edge(v, w)) out->push_back(w);
+  return out;
+}
+
+double DecimationMesh::rho(uint32_t t) const {
+  const uint32_t* i = &s.mesh.indices[3 * size_t(t)];
+  return radii_ratio(pos[i[0]], pos[i[1]], pos[i[2]]);
+}
+
+
+// Witnesses (decimation.hpp). Every original vertex keeps a witness, a live triangle within
+// the bound; witnessed lists them per triangle. A change (collapse, flip, move) that alters
+// `changed` triangles needs a new witness for every original vertex those witness: among the
+// triangles near the change as they will be (fan), else among those one ring further
+// (fill_far adds them to fan). The new witnesses wait in pending for commit_witnesses.
+template <class FillFar>
+bool DecimationMesh::rewitness(std::span<const uint32_t> changed, double limit2,
+                               FillFar&& fill_far) {
+  pending.clear();
+  pending_changed.assign(changed.begin(), changed.end());
+  bool far = false;
+  for (uint32_t t : changed)
+    for (uint32_t o : witnessed[t]) {
+      const Vec3d q = to_double(original[o]);
+      uint32_t found = witness_in_fan(q, limit2);
+      if (found == ~0u && !far) {
+        fill_far();
+        far = true;
+        found = witness_in_fan(q, limit2);
+      }
+      if (found == ~0u) return false;
+      pending.push_back({o, found});
+    }
+  return true;
+}
+
+void DecimationMesh::commit_witnesses() {
+  for (uint32_t t : pending_changed) witnessed[t].clear();
+  for (const auto& [o, t] : pending) {
+    witness[o] = t;
+    witnessed[t].push_back(o);
+  }
+}
+
+// fan += the live triangles of `y` other than `skip` (and those on edge (u, v) when
+// `collapse`), their corners through `corner`.
+template <class Corner>
+void DecimationMesh::add_fan(uint32_t y, Corner&& corner, bool collapse, uint32_t u, uint32_t v,
+                             uint32_t skip1, uint32_t skip2) {
+  for (uint32_t t : tris[y]) {
+    if (!alive_tri[t] || t == skip1 || t == skip2 || (collapse && has(t, u) && has(t, v))) continue;
+    const uint32_t* i = &s.mesh.indices[3 * size_t(t)];
+    fan.push_back({t, {corner(i[0]), corner(i[1]), corner(i[2])}});
+  }
+}
+
+// The collapse of u into v at `position` (u == v: the move of v to `position`).
+bool DecimationMesh::collapse_keeps_witnesses(uint32_t u, uint32_t v, Vec3d position,
+                                              double limit2) {
+  const bool collapse = u != v;
+  const ListPool::Lease changed = pool.take();
+  for (uint32_t x : {u, v}) {
+    if (x == u && !collapse) continue;
+    for (uint32_t t : tris[x])
+      if (alive_tri[t]) changed->push_back(t);
+  }
+  std::sort(changed->begin(), changed->end());
+  changed->erase(std::unique(changed->begin(), changed->end()), changed->end());
+  auto corner = [&](uint32_t i) { return i == u || i == v ? position : pos[i]; };
+  fan.clear();
+  add_fan(v, corner, collapse, u, v);
+  if (collapse) add_fan(u, corner, collapse, u, v);
+  return rewitness(*changed, limit2, [&] {
+    for (uint32_t x : {u, v}) {
+      if (x == u && !collapse) continue;
+      const ListPool::Lease ring = neighbours(x);
+      for (uint32_t w : *ring)
+        if (w != u && w != v) add_fan(w, corner, collapse, u, v);
+    }
+  });
+}
+
+// The flip of t1 and t2 into `new1` and `new2` over the quad's `corners`.
+bool DecimationMesh::flip_keeps_witnesses(uint32_t t1, uint32_t t2, const std::array<uint32_t, 3>& new1,
+                          const std::array<uint32_t, 3>& new2,
+                          const std::array<uint32_t, 4>& corners, double limit2) {
+  auto corner = [&](uint32_t i) { return pos[i]; };
+  fan.clear();
+  fan.push_back({t1, {pos[new1[0]], pos[new1[1]], pos[new1[2]]}});
+  fan.push_back({t2, {pos[new2[0]], pos[new2[1]], pos[new2[2]]}});
+  const uint32_t changed[2] = {t1, t2};
+  return rewitness(changed, limit2, [&] {
+    for (uint32_t x : corners) add_fan(x, corner, false, 0, 0, t1, t2);
+  });
+}
+
+// The first triangle of fan within sqrt(limit2) of q, or ~0u.
+uint32_t DecimationMesh::witness_in_fan(const Vec3d& q, double limit2) const {
+  for (const auto& [t, p] : fan) {
+    const Vec3d d = closest_point_on_triangle(q, p[0], p[1], p[2]) - q;
+    if (dot(d, d) <= limit2) return t;
+  }
+  return ~0u;
+}
+
+
+void DecimationMesh::prune(uint32_t v) {
+  auto& list = tris[v];
+  list.erase(std::remove_if(list.begin(), list.end(), [&](uint32_t t) { return !alive_tri[t]; }),
+             list.end());
+}
+
+void DecimationMesh::compact() {
+  const size_t nv = pos.size(), nt = s.sides.size();
+  std::vector<uint32_t> id(nv, ~0u);
+  std::vector<char> used(nv, 0);
+  for (size_t t = 0; t < nt; ++t)
+    if (alive_tri[t])
+      for (int k = 0; k < 3; ++k) used[s.mesh.indices[3 * t + size_t(k)]] = 1;
+  std::vector<Vec3f> positions;
+  for (size_t v = 0; v < nv; ++v)
+    if (used[v]) {
+      id[v] = static_cast<uint32_t>(positions.size());
+      positions.push_back(to_float(pos[v]));
+    }
+  std::vector<uint32_t> indices;
+  std::vector<std::array<uint32_t, 2>> sides;
+  for (size_t t = 0; t < nt; ++t) {
+    if (!alive_tri[t]) continue;
+    for (int k = 0; k < 3; ++k) indices.push_back(id[s.mesh.indices[3 * t + size_t(k)]]);
+    sides.push_back(s.sides[t]);
+  }
+  std::vector<uint32_t> junctions;
+  for (size_t v = 0; v < nv; ++v)
+    if (junction_vertex[v] && id[v] != ~0u) junctions.push_back(id[v]);
+  s.mesh.positions = std::move(positions);
+  s.mesh.indices = std::move(indices);
+  s.mesh.normals.clear();
+  s.mesh.colors.clear();
+  s.sides = std::move(sides);
+  s.junction_vertices = std::move(junctions);
+}
+
+}  // namespace segmesh

@@ -1,0 +1,132 @@
+// The working state of decimation (decimation.hpp): the labelled surface under change and what
+// its three operations share (edge collapse in decimation.cpp; edge flips and tangential
+// relaxation in detail/decimation_passes.hpp): positions in double, vertex roles, quadrics, the
+// live triangles of every vertex, and the witnesses that bound the distance from the original
+// vertices to the surface. Internal to the core: included by decimation.cpp and
+// decimation_passes.cpp only.
+//
+// Witnesses. Every original vertex keeps a witness, a live triangle within the bound;
+// `witnessed` lists them per triangle. A change (a collapse, a flip, a vertex moved) that alters
+// some triangles needs a new witness for every original vertex those witness: among the triangles
+// near the change as they will be, else among those one ring further. The checks below find
+// them and keep them in `pending`; commit_witnesses makes them the witnesses once the caller
+// makes the change.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "segmesh/detail/quadric.hpp"
+#include "segmesh/labelled_surface.hpp"
+#include "segmesh/detail/smoothing_filters.hpp"
+
+namespace segmesh {
+
+// No triangle may turn by more than 60 degrees in a collapse or a flip.
+inline constexpr double kDecimationMaxTurnCos = 0.5;
+
+// Lists of vertex or triangle ids for the checks, reused: a check allocates nothing once the
+// lists have grown (the allocations of fresh lists were a fifth of the decimation's time).
+class ListPool {
+ public:
+  using List = std::vector<uint32_t>;
+  // A cleared list, returned to the pool when the lease ends; bind it to a name.
+  class Lease {
+   public:
+    Lease(ListPool& pool, List& list) : pool_(&pool), list_(&list) {}
+    Lease(Lease&& o) noexcept : pool_(std::exchange(o.pool_, nullptr)), list_(o.list_) {}
+    Lease(const Lease&) = delete;
+    Lease& operator=(const Lease&) = delete;
+    Lease& operator=(Lease&&) = delete;
+    ~Lease() {
+      if (pool_) pool_->free_.push_back(list_);
+    }
+    List& operator*() const { return *list_; }
+    List* operator->() const { return list_; }
+
+   private:
+    ListPool* pool_;
+    List* list_;
+  };
+  Lease take() {
+    if (free_.empty()) free_.push_back(&all_.emplace_back());
+    List& list = *free_.back();
+    free_.pop_back();
+    list.clear();
+    return Lease(*this, list);
+  }
+
+ private:
+  std::deque<List> all_;  // stable addresses
+  std::vector<List*> free_;
+};
+
+struct DecimationMesh {
+  // Positions, roles (surface_roles with either winding), quadrics (every triangle's plane,
+  // weight 1/3, on its corners), triangle lists and witnesses of `surface`, kept until compact.
+  explicit DecimationMesh(LabelledSurface& surface);
+
+  LabelledSurface& s;
+  std::vector<Vec3d> pos;
+  std::vector<SmoothRole> role;
+  std::vector<char> junction_vertex;  // s.junction_vertices and the vertices they merged into
+  std::vector<Quadric> quadric;
+  std::vector<std::vector<uint32_t>> tris;  // per vertex; may hold dead triangles until pruned
+  std::vector<char> alive_tri, alive_vertex;
+  // The original vertices: positions, witnesses, and per triangle those it witnesses; the last
+  // check's new witnesses (original vertex, triangle) and the triangles it changed.
+  std::vector<Vec3f> original;
+  std::vector<uint32_t> witness;
+  std::vector<std::vector<uint32_t>> witnessed;
+  std::vector<std::pair<uint32_t, uint32_t>> pending;
+  std::vector<uint32_t> pending_changed;
+  std::vector<std::pair<uint32_t, std::array<Vec3d, 3>>> fan;  // scratch: candidate witnesses
+  mutable ListPool pool;
+
+  bool has(uint32_t t, uint32_t v) const {
+    const uint32_t* i = &s.mesh.indices[3 * size_t(t)];
+    return i[0] == v || i[1] == v || i[2] == v;
+  }
+  // The live triangles on edge (a, b).
+  template <class F>
+  void for_edge_triangles(uint32_t a, uint32_t b, F&& f) const {
+    for (uint32_t t : tris[a])
+      if (alive_tri[t] && has(t, b)) f(t);
+  }
+  // A junction edge: its triangles separate two or more different pairs of materials.
+  bool junction_edge(uint32_t a, uint32_t b) const;
+  // The neighbours of v over its live triangles that hold material m (all when m is ~0u),
+  // sorted and unique.
+  ListPool::Lease neighbours(uint32_t v, uint32_t m = ~0u) const;
+  ListPool::Lease curve_neighbours(uint32_t v) const;
+  double rho(uint32_t t) const;  // radii ratio
+
+  // Witness checks, each leaving the new witnesses in `pending`. limit2: the squared bound
+  // (infinity: any triangle will do, to keep every witness alive).
+  // The collapse of u into v at `position` (u == v: the move of v to `position`).
+  bool collapse_keeps_witnesses(uint32_t u, uint32_t v, Vec3d position, double limit2);
+  // The flip of t1 and t2 into `new1` and `new2` over the quad's `corners`.
+  bool flip_keeps_witnesses(uint32_t t1, uint32_t t2, const std::array<uint32_t, 3>& new1,
+                            const std::array<uint32_t, 3>& new2,
+                            const std::array<uint32_t, 4>& corners, double limit2);
+  void commit_witnesses();
+
+  void prune(uint32_t v);  // dead triangles out of v's list
+  // Writes the live triangles back into `s` (vertices renumbered, junction_vertices kept,
+  // normals and colours cleared).
+  void compact();
+
+ private:
+  template <class FillFar>
+  bool rewitness(std::span<const uint32_t> changed, double limit2, FillFar&& fill_far);
+  template <class Corner>
+  void add_fan(uint32_t y, Corner&& corner, bool collapse, uint32_t u, uint32_t v,
+               uint32_t skip1 = ~0u, uint32_t skip2 = ~0u);
+  uint32_t witness_in_fan(const Vec3d& q, double limit2) const;
+};
+
+}  // namespace segmesh
