@@ -90,4 +90,13 @@ Image read_volume(const fs::path& path, const ReadOptions& options) {
   throw file_error(path, "unknown volume format");
 }
 
+std::array<int64_t, 3> check_volume_geometry(const std::string& name,
+                                             std::span<const int64_t> dims, const Grid& grid,
+                                             const ReadOptions& options) {
+  const std::array<int64_t, 3> three = volume_io::check_dims(name, dims);
+  volume_io::check_voxel_limit(name, three, options.max_voxels);
+  volume_io::check_grid(name, grid, "spacing");
+  return three;
+}
+
 }  // namespace segmesh

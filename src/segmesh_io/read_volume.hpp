@@ -35,9 +35,11 @@
 // No ITK exception escapes.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <span>
 #include <string>
 
 #include "segmesh/image.hpp"
@@ -51,5 +53,14 @@ struct ReadOptions {
 
 // Reads the volume at `path` (a file, or a folder holding a DICOM series).
 Image read_volume(const std::filesystem::path& path, const ReadOptions& options = {});
+
+// The checks read_volume makes on what a file claims, for a volume that comes from elsewhere (the
+// Python package's arrays): 3-D (more axes only if every extra one has size 1), at most
+// options.max_voxels voxels, positive finite spacing, a finite origin and an orthonormal
+// direction. `grid`'s dims are ignored. Returns the three spatial dims. Throws the readers' own
+// segmesh::Error, naming `name` first ("array: 4-D images are not supported (dims 2x3x4x5); ...").
+std::array<int64_t, 3> check_volume_geometry(const std::string& name,
+                                             std::span<const int64_t> dims, const Grid& grid,
+                                             const ReadOptions& options = {});
 
 }  // namespace segmesh

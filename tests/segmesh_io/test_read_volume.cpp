@@ -400,3 +400,43 @@ TEST(ReadVolumeErrors, NoItkExceptionEscapes) {
 
 }  // namespace
 }  // namespace segmesh
+
+namespace segmesh {
+namespace {
+
+// check_volume_geometry: the readers' checks for volumes from elsewhere (the Python package's
+// arrays), with the readers' words.
+TEST(CheckVolumeGeometry, AcceptsAThreeDGridAndTrailingAxesOfOne) {
+  Grid grid;
+  grid.spacing = {0.5, 0.5, 2};
+  const std::vector<int64_t> dims{4, 5, 6, 1};
+  EXPECT_EQ(check_volume_geometry("array", dims, grid), (std::array<int64_t, 3>{4, 5, 6}));
+}
+
+TEST(CheckVolumeGeometry, RefusesWhatTheReadersRefuse) {
+  const auto message = [](std::vector<int64_t> dims, Grid grid, uint64_t max_voxels) {
+    try {
+      check_volume_geometry("array", dims, grid, {.max_voxels = max_voxels});
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  Grid ok;
+  EXPECT_EQ(message({2, 3, 4, 5}, ok, 1000),
+            "array: 4-D images are not supported (dims 2x3x4x5); extract one volume first");
+  EXPECT_NE(message({3, 4}, ok, 1000).find("2-D images are not supported"), std::string::npos);
+  EXPECT_NE(message({10, 10, 11}, ok, 1000).find("exceeds the limit of 1000 voxels"),
+            std::string::npos);
+  Grid zero = ok;
+  zero.spacing[1] = 0;
+  EXPECT_NE(message({2, 2, 2}, zero, 1000).find("array: "), std::string::npos);
+  EXPECT_NE(message({2, 2, 2}, zero, 1000), "no error");
+  Grid sheared = ok;
+  sheared.direction[1] = 0.5;
+  EXPECT_NE(message({2, 2, 2}, sheared, 1000).find("not a rotation or mirroring"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace segmesh
