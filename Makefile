@@ -5,7 +5,7 @@ JOBS ?= $(shell nproc)
 SEGMESH := $(BUILD_DIR)/apps/cli/segmesh
 DEMO_DIR ?= out/demo
 
-.PHONY: all deps configure build test demo bench clean sanitize fuzz
+.PHONY: all deps configure build python test demo bench clean sanitize fuzz
 
 all: build
 
@@ -17,6 +17,11 @@ configure: deps
 
 build: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
+
+# The Python package alone (docs/PYTHON.md): $(BUILD_DIR)/python/segmesh, imported with
+# PYTHONPATH=$(BUILD_DIR)/python; `make test` builds it with everything else and runs its tests.
+python: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target segmesh_python
 
 # After the normal suite, the same suite under AddressSanitizer + UndefinedBehaviorSanitizer
 # (`make sanitize`): measured at about 19 minutes for both builds and both runs from a clean clone on

@@ -23,6 +23,8 @@ packages=(
   libegl-mesa0 libgl1-mesa-dri                  # headless rendering: Mesa's EGL and llvmpipe
   libglfw3-dev libimgui-dev libglx-mesa0        # segmesh-viewer: window, Dear ImGui, GLX
   xvfb xauth                                    # the viewer's smoke test runs it under xvfb-run
+  pybind11-dev python3-dev                      # the Python package (python/, docs/PYTHON.md)
+  python3-nibabel                               # its tests: nibabel images against the CLI
 )
 for flag in "$@"; do
   case "$flag" in
