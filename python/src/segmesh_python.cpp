@@ -11,6 +11,7 @@
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -198,14 +199,31 @@ std::vector<Out> copy_voxels(const py::buffer_info& info, const std::array<int64
     std::memcpy(out.data(), base, out.size() * sizeof(Out));
     return out;
   }
-  tbb::parallel_for(int64_t{0}, dims[2], [&](int64_t k) {
-    for (int64_t j = 0; j < dims[1]; ++j) {
-      Out* row = out.data() + (k * dims[1] + j) * dims[0];
-      const char* src = base + k * s2 + j * s1;
+  const auto load = [](const char* p) {
+    In v;
+    std::memcpy(&v, p, sizeof(In));
+    return static_cast<Out>(v);
+  };
+  if (std::abs(s0) <= std::abs(s2)) {
+    // i is the array's faster axis (Fortran-like): rows of i copied one by one.
+    tbb::parallel_for(int64_t{0}, dims[2], [&](int64_t k) {
+      for (int64_t j = 0; j < dims[1]; ++j) {
+        Out* row = out.data() + (k * dims[1] + j) * dims[0];
+        const char* src = base + k * s2 + j * s1;
+        for (int64_t i = 0; i < dims[0]; ++i) row[i] = load(src + i * s0);
+      }
+    });
+    return out;
+  }
+  // k is the faster axis (C order, numpy's and torch's default): a transpose, in blocks of 64 k
+  // so that reads run along k and the 64 rows written stay in cache.
+  constexpr int64_t kBlock = 64;
+  tbb::parallel_for(int64_t{0}, dims[1], [&](int64_t j) {
+    for (int64_t k0 = 0; k0 < dims[2]; k0 += kBlock) {
+      const int64_t k1 = std::min(dims[2], k0 + kBlock);
       for (int64_t i = 0; i < dims[0]; ++i) {
-        In v;
-        std::memcpy(&v, src + i * s0, sizeof(In));
-        row[i] = static_cast<Out>(v);
+        const char* src = base + i * s0 + j * s1;
+        for (int64_t k = k0; k < k1; ++k) out[size_t((k * dims[1] + j) * dims[0] + i)] = load(src + k * s2);
       }
     }
   });
