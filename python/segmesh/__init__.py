@@ -147,9 +147,9 @@ def mesh(labels, /, spacing=None, origin=None, direction=None, affine=None, *, l
     spacing (mm), origin (mm) and direction (3x3, columns the world directions of i, j, k) are LPS,
     as segmesh's files and the CLI report them; affine= is a 4x4 voxel-to-RAS matrix (nibabel).
     label_names: a TSV file (the CLI's --label-names) or a dict {label: name or (name, role)}.
-    progress: callable(step, fraction), called about ten times a second; returning False cancels
-    (segmesh.Cancelled is raised), and so does an exception it raises (raised again) or Ctrl-C
-    (KeyboardInterrupt). measure=False skips the report's numbers (Part.measures, contacts).
+    progress: callable(step, fraction), called from the calling thread about twenty times a second
+    and at least once per step; returning False cancels (segmesh.Cancelled is raised), and so
+    does an exception it raises (raised again) or Ctrl-C (KeyboardInterrupt). measure=False skips the report's numbers (Part.measures, contacts).
     `labels` is positional-only, so labels=[1, 2] is the CLI's --labels option.
     Returns a Result, a list of Part.
     """
