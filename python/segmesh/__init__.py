@@ -137,6 +137,11 @@ def _geometry(spacing, origin, direction, affine):
     return spacing, origin, tuple(d.reshape(9))
 
 
+def _check_progress(progress):
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress must be a callable(step, fraction), not {type(progress).__name__}")
+
+
 def mesh(labels, /, spacing=None, origin=None, direction=None, affine=None, *, label_names=None,
          color="material", measure=True, progress=None, threads=0, max_voxels=2_000_000_000,
          **options):
@@ -158,6 +163,7 @@ def mesh(labels, /, spacing=None, origin=None, direction=None, affine=None, *, l
             affine = labels.affine
         labels = _np.asanyarray(labels.dataobj)
     spacing, origin, direction = _geometry(spacing, origin, direction, affine)
+    _check_progress(progress)
     return Result(_segmesh.mesh_array(labels, spacing, origin, direction, label_names, color,
                                       measure, progress, threads, max_voxels, options))
 
@@ -167,18 +173,20 @@ def mesh_file(path, /, *, label_names=None, color="material", measure=True, prog
     """Meshes a volume file (every format `segmesh mesh` reads: .nii[.gz], .nrrd, .seg.nrrd,
     .nhdr, .mha, .mhd, .mrc/.map/.rec, a DICOM folder) as `segmesh mesh` would. The reader's
     warnings are in Result.warnings. Otherwise as mesh()."""
+    _check_progress(progress)
     return Result(_segmesh.mesh_file(_os.fspath(path), label_names, color, measure, progress,
                                      threads, max_voxels, options))
 
 
 def write(parts, path, format=None):
-    """Writes parts (a Result, a list of Part, or one Part) to `path`: .stl, .ply, .obj (+ .mtl) or
+    """Writes parts (a Result, a list of Part or of dicts with Part's fields, or one Part) to `path`: .stl, .ply, .obj (+ .mtl) or
     .glb by its extension, all parts in one file; or, when `path` ends with "/" or is a folder,
     one file per part named after it (format= "stl", "ply" (default), "obj" or "glb"), as
     `segmesh mesh -o` does. Returns the files written."""
     if isinstance(parts, Part):
         parts = [parts]
-    return _segmesh.write([p._fields() for p in parts], _os.fspath(path), format or "")
+    fields = [p._fields() if isinstance(p, Part) else dict(p) for p in parts]
+    return _segmesh.write(fields, _os.fspath(path), format or "")
 
 
 def phantom(size=(512, 512, 203), spacing=(0.197, 0.197, 2.0)):

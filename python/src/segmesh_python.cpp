@@ -77,8 +77,7 @@ MeshingOptions options_from_kwargs(const py::dict& kwargs) {
 }
 
 // label_names: a TSV path (the CLI's --label-names) or a dict {label: name or (name, role)}.
-std::vector<LabelInfo> label_names_from(const py::object& names) {
-  if (names.is_none()) return {};
+std::vector<LabelInfo> label_names_from_object(const py::object& names) {
   if (!py::isinstance<py::dict>(names)) return read_label_names(names.cast<fs::path>());
   std::vector<LabelInfo> out;
   for (const auto& [key, value] : names.cast<py::dict>()) {
@@ -98,6 +97,17 @@ std::vector<LabelInfo> label_names_from(const py::object& names) {
     out.push_back(std::move(info));
   }
   return out;
+}
+
+std::vector<LabelInfo> label_names_from(const py::object& names) {
+  if (names.is_none()) return {};
+  try {
+    return label_names_from_object(names);
+  } catch (const py::cast_error&) {
+    throw Error("label_names must be a TSV file (the CLI's --label-names) or a dict {label: name} "
+                "or {label: (name, role)} with whole-number labels and text names (got " +
+                std::string(py::repr(names)).substr(0, 80) + ")");
+  }
 }
 
 // ---- progress and cancellation ---------------------------------------------------------------

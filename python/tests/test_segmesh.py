@@ -146,6 +146,10 @@ class Errors(unittest.TestCase):
         self.assertValueError(r"--color must be material or quality", labels, color="red")
         self.assertValueError(r"--threads must be 0", labels, threads=-1)
         self.assertValueError(r"unknown role", labels, label_names={1: ("a", "bonez")})
+        for bad in (5, {1: 5}, {"a": "b"}):
+            self.assertValueError(r"label_names must be a TSV file", labels, label_names=bad)
+        with self.assertRaisesRegex(TypeError, r"progress must be a callable"):
+            segmesh.mesh(labels, progress=5)
         with self.assertRaisesRegex(ValueError, r"nothing\.tsv"):
             segmesh.mesh(labels, label_names="nothing.tsv")
         with self.assertRaisesRegex(ValueError, r"missing\.nii\.gz"):
