@@ -85,11 +85,32 @@ class PyProgress : public Progress {
     } catch (py::error_already_set& e) {
       e.restore();
       cancel_with_python_error();
+    } catch (...) {  // nothing may leave the polling loop while the run goes on
+      other_error_ = std::current_exception();
+      cancelled_.store(true);
     }
   }
 
-  // With the GIL held, after the core threw Cancelled: the Python error that cancelled, if any.
+  // On the calling thread, with the GIL held, after a run that was not cancelled: the steps not
+  // reported yet (a run shorter than one poll), then the last step at 1. The callback's error, if
+  // it raises, is raised.
+  void finish() {
+    if (callback_.is_none() || cancelled_.load()) return;
+    std::vector<std::string> begun;
+    std::string step;
+    {
+      std::lock_guard lock(step_mutex_);
+      begun.swap(begun_);
+      step = step_;
+    }
+    for (size_t i = 0; i + 1 < begun.size(); ++i) call(begun[i], 0);
+    if (!step.empty()) call(step, 1);
+  }
+
+  // With the GIL held, after the core threw Cancelled: raises what cancelled the run, if it was
+  // an error (the callback's or KeyboardInterrupt); returns false when the callback said stop.
   bool restore_error() {
+    if (other_error_) std::rethrow_exception(other_error_);
     if (!error_type_) return false;
     PyErr_Restore(error_type_, error_value_, error_trace_);
     error_type_ = error_value_ = error_trace_ = nullptr;
@@ -99,7 +120,10 @@ class PyProgress : public Progress {
  private:
   void call(const std::string& step, double fraction) {
     const py::object result = callback_(step, fraction);
-    if (!result.is_none() && !result.cast<bool>()) cancelled_.store(true);
+    if (result.is_none()) return;
+    const int truth = PyObject_IsTrue(result.ptr());
+    if (truth < 0) throw py::error_already_set();
+    if (truth == 0) cancelled_.store(true);
   }
 
   void cancel_with_python_error() {
@@ -116,6 +140,7 @@ class PyProgress : public Progress {
   PyObject* error_type_ = nullptr;
   PyObject* error_value_ = nullptr;
   PyObject* error_trace_ = nullptr;
+  std::exception_ptr other_error_;
 };
 
 // Meshes and measures `make_image()`'s image on a thread of its own, the GIL released, while the
@@ -179,6 +204,7 @@ py::dict run(const Request& request, const py::object& callback, MakeImage&& mak
       throw;
     }
   }
+  progress.finish();
   return result_dict(std::move(scene), measures, stats);
 }
 

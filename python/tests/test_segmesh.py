@@ -172,6 +172,17 @@ class ProgressAndCancel(unittest.TestCase):
         self.assertIn("smoothing", steps)
         self.assertTrue(all(0 <= f <= 1 for _, f in seen))
 
+    def test_short_run_reports_every_step(self):
+        seen = []
+        segmesh.mesh(two_boxes(), measure=False, progress=lambda s, f: seen.append((s, f)))
+        self.assertEqual([s for s, _ in seen][:2], ["components", "marching cubes"])
+        self.assertEqual(seen[-1], ("smoothing", 1))
+
+    def test_callback_result_without_truth_value_raises(self):
+        with self.assertRaisesRegex(ValueError, "truth value"):
+            segmesh.mesh(self.labels, spacing=self.spacing,
+                         progress=lambda s, f: np.array([1, 2]))
+
     def test_callback_returning_false_cancels(self):
         calls = []
 
