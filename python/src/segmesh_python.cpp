@@ -204,6 +204,12 @@ py::dict run(const Request& request, const py::object& callback, MakeImage&& mak
       throw;
     }
   }
+  // Cancelled after the core's last check (Ctrl-C during the last moments): the run is complete,
+  // but the interrupt is not swallowed, and a callback's stop is honoured the same way.
+  if (progress.cancelled()) {
+    if (progress.restore_error()) throw py::error_already_set();
+    throw Cancelled();
+  }
   progress.finish();
   return result_dict(std::move(scene), measures, stats);
 }
