@@ -45,44 +45,6 @@ struct MeshArgs {
   ReadArgs read;
 };
 
-// Where the meshes go: one file, or a folder with one file per part.
-struct OutputTarget {
-  fs::path path;
-  bool folder = false;
-  MeshFormat format = MeshFormat::ply;
-};
-
-OutputTarget resolve_output(const MeshArgs& args) {
-  OutputTarget out;
-  out.path = args.output;
-  std::optional<MeshFormat> requested;
-  if (!args.format.empty()) {
-    requested = parse_mesh_format(args.format);
-    if (!requested) throw Error("--format must be stl, ply, obj or glb (got \"" + args.format + "\")");
-  }
-  const bool trailing_slash = !args.output.empty() && args.output.back() == '/';
-  if (trailing_slash || fs::is_directory(out.path)) {
-    out.folder = true;
-    out.format = requested.value_or(MeshFormat::ply);
-    fs::path folder = out.path;
-    if (trailing_slash) folder = folder.parent_path();  // "dir/" -> "dir"
-    if (!fs::exists(folder)) require_parent_folder(folder);
-    out.path = folder;
-    return out;
-  }
-  const auto format = mesh_format_from_path(out.path);
-  if (!format) {
-    throw Error(args.output + ": unknown mesh format \"" + out.path.extension().string() +
-                "\"; use .stl, .ply, .obj or .glb, or end the path with / for one file per part");
-  }
-  if (requested && *requested != *format) {
-    throw Error(args.output + ": --format " + args.format + " disagrees with the file extension");
-  }
-  out.format = *format;
-  require_parent_folder(out.path);
-  return out;
-}
-
 // Whether two paths name the same file or folder, however spelled ("a.ply", "./a.ply"); neither
 // needs to exist.
 bool same_path(const fs::path& a, const fs::path& b) {
@@ -106,7 +68,7 @@ void refuse_same_file(const std::string& path, const char* option, const fs::pat
 // atlas is written) that is neither the input nor another output. `note` is why --surfaces
 // automatic chose independent surfaces (surfaces_note).
 void check_atlas(const MeshArgs& args, const MeshingOptions& options,
-                 const std::optional<std::string>& note, const OutputTarget& target) {
+                 const std::optional<std::string>& note, const MeshTarget& target) {
   if (options.surfaces != Surfaces::conforming) {
     const std::string why = note ? *note
                             : options.iso ? "--iso meshes grey values, each part on its own"
@@ -124,7 +86,7 @@ void check_atlas(const MeshArgs& args, const MeshingOptions& options,
 }
 
 nlohmann::json options_json(const MeshArgs& a, const MeshingOptions& resolved,
-                            const OutputTarget& out) {
+                            const MeshTarget& out) {
   nlohmann::json j = meshing_json(resolved, a.meshing.label_names);
   j["format"] = extension(out.format);
   j["quantize"] = a.quantize;
@@ -145,12 +107,8 @@ int run_mesh(const MeshArgs& args) {
     throw Error("--color must be material or quality (got \"" + args.color + "\")");
   }
   options.color_by_quality = args.color == "quality";
-  const OutputTarget target = resolve_output(args);
-  if (args.quantize && target.format != MeshFormat::glb) {
-    throw Error("--quantize writes glTF's KHR_mesh_quantization; it needs glb output, not " +
-                std::string(extension(target.format)));
-  }
   const MeshWriteOptions write_options{.quantize = args.quantize};
+  const MeshTarget target = resolve_mesh_target(args.output, args.format, write_options);
   refuse_to_overwrite(target.path, args.input);
   if (!args.report.empty()) {
     require_parent_folder(args.report);

@@ -178,15 +178,16 @@ def mesh_file(path, /, *, label_names=None, color="material", measure=True, prog
                                      threads, max_voxels, options))
 
 
-def write(parts, path, format=None):
+def write(parts, path, format=None, quantize=False):
     """Writes parts (a Result, a list of Part or of dicts with Part's fields, or one Part) to `path`: .stl, .ply, .obj (+ .mtl) or
     .glb by its extension, all parts in one file; or, when `path` ends with "/" or is a folder,
     one file per part named after it (format= "stl", "ply" (default), "obj" or "glb"), as
-    `segmesh mesh -o` does. Returns the files written."""
+    `segmesh mesh -o` does. quantize=True: a compact GLB (KHR_mesh_quantization), as
+    `segmesh mesh --quantize`. Returns the files written."""
     if isinstance(parts, Part):
         parts = [parts]
     fields = [p._fields() if isinstance(p, Part) else dict(p) for p in parts]
-    return _segmesh.write(fields, _os.fspath(path), format or "")
+    return _segmesh.write(fields, _os.fspath(path), format or "", bool(quantize))
 
 
 def phantom(size=(512, 512, 203), spacing=(0.197, 0.197, 2.0)):

@@ -134,7 +134,7 @@ std::vector<T> rows_of(const py::handle& value, size_t columns, const std::strin
 }  // namespace
 
 std::vector<std::string> write_parts_py(const py::list& parts, const std::string& path,
-                                        const std::string& format) {
+                                        const std::string& format, bool quantize) {
   Scene scene;
   for (const auto& item : parts) {
     const py::dict d = item.cast<py::dict>();
@@ -174,29 +174,17 @@ std::vector<std::string> write_parts_py(const py::list& parts, const std::string
     }
     scene.parts.push_back(std::move(part));
   }
-  const bool folder = (!path.empty() && path.back() == '/') || fs::is_directory(path);
-  std::optional<MeshFormat> chosen;
-  if (!format.empty()) {
-    chosen = parse_mesh_format(format);
-    if (!chosen) throw Error("--format must be stl, ply, obj or glb (got \"" + format + "\")");
-  }
+  const MeshWriteOptions options{.quantize = quantize};
+  const MeshTarget target = resolve_mesh_target(path, format, options);
   py::gil_scoped_release release;
-  if (folder) {
+  if (target.folder) {
     std::vector<std::string> out;
-    fs::path dir = path;
-    if (path.back() == '/') dir = dir.parent_path();
-    for (const fs::path& p : write_parts(scene, dir, chosen.value_or(MeshFormat::ply))) {
+    for (const fs::path& p : write_parts(scene, target.path, target.format, options)) {
       out.push_back(p.string());
     }
     return out;
   }
-  const auto by_name = mesh_format_from_path(path);
-  if (!by_name) {
-    throw Error(path + ": unknown mesh format \"" + fs::path(path).extension().string() +
-                "\"; use .stl, .ply, .obj or .glb, or end the path with / for one file per part");
-  }
-  if (chosen && *chosen != *by_name) throw Error(path + ": format " + format + " disagrees with the file extension");
-  write_scene(scene, path, *by_name);
+  write_scene(scene, target.path, target.format, options);
   return {path};
 }
 

@@ -23,7 +23,8 @@ py::dict result_dict(Scene&& scene, const SceneMeasures& measures, const Pipelin
 // Writes parts given as dicts (name, label, role, vertices, faces, normals, color, ...): one file,
 // or one file per part when `path` ends with '/' or is a folder, as `segmesh mesh -o` does.
 // Returns the files written.
+// quantize: KHR_mesh_quantization (glb only), as `segmesh mesh --quantize`.
 std::vector<std::string> write_parts_py(const py::list& parts, const std::string& path,
-                                        const std::string& format);
+                                        const std::string& format, bool quantize);
 
 }  // namespace segmesh::python

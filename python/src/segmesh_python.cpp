@@ -300,7 +300,8 @@ PYBIND11_MODULE(_segmesh, m) {
   m.def("mesh_file", &mesh_file, py::arg("path"), py::arg("label_names"), py::arg("color"),
         py::arg("measure"), py::arg("progress"), py::arg("threads"), py::arg("max_voxels"),
         py::arg("options"));
-  m.def("write", &write_parts_py, py::arg("parts"), py::arg("path"), py::arg("format"));
+  m.def("write", &write_parts_py, py::arg("parts"), py::arg("path"), py::arg("format"),
+        py::arg("quantize") = false);
   m.def("option_specs", &option_specs);
   m.def("phantom", &phantom, py::arg("size"), py::arg("spacing"));
 }

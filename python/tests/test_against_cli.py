@@ -131,6 +131,13 @@ class WriteFormats(unittest.TestCase):
             self.assertEqual(len(files), len(parts))
             with self.assertRaisesRegex(ValueError, "unknown mesh format"):
                 segmesh.write(parts, os.path.join(tmp, "scene.xyz"))
+            # quantize=True: the CLI's --quantize, a smaller GLB; refused for other formats.
+            small = os.path.join(tmp, "small.glb")
+            self.assertEqual(segmesh.write(parts, small, quantize=True), [small])
+            self.assertLess(os.path.getsize(small), 0.8 * os.path.getsize(os.path.join(tmp, "scene.glb")))
+            with self.assertRaisesRegex(ValueError, "--quantize .* needs glb output, not ply"):
+                segmesh.write(parts, os.path.join(tmp, "small.ply"), quantize=True)
+            self.assertFalse(os.path.exists(os.path.join(tmp, "small.ply")))
 
 
 if __name__ == "__main__":

@@ -4,7 +4,9 @@
 #include <cctype>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <set>
+#include <string>
 #include <system_error>
 
 #include "segmesh_io/atomic_file.hpp"
@@ -108,7 +110,49 @@ std::vector<fs::path> file_paths(const PartList& parts, const fs::path& dir, Mes
   return paths;
 }
 
+// The target without the options' checks (resolve_mesh_target).
+MeshTarget target_of(const std::string& output, const std::string& format) {
+  MeshTarget out;
+  out.path = output;
+  std::optional<MeshFormat> requested;
+  if (!format.empty()) {
+    requested = parse_mesh_format(format);
+    if (!requested) throw Error("--format must be stl, ply, obj or glb (got \"" + format + "\")");
+  }
+  const bool trailing_slash = !output.empty() && output.back() == '/';
+  if (trailing_slash || fs::is_directory(out.path)) {
+    out.folder = true;
+    out.format = requested.value_or(MeshFormat::ply);
+    fs::path folder = out.path;
+    if (trailing_slash) folder = folder.parent_path();  // "dir/" -> "dir"
+    if (!fs::exists(folder)) require_parent_folder(folder);
+    out.path = folder;
+    return out;
+  }
+  const auto by_name = mesh_format_from_path(out.path);
+  if (!by_name) {
+    throw Error(output + ": unknown mesh format \"" + out.path.extension().string() +
+                "\"; use .stl, .ply, .obj or .glb, or end the path with / for one file per part");
+  }
+  if (requested && *requested != *by_name) {
+    throw Error(output + ": --format " + format + " disagrees with the file extension");
+  }
+  out.format = *by_name;
+  require_parent_folder(out.path);
+  return out;
+}
+
 }  // namespace
+
+MeshTarget resolve_mesh_target(const std::string& output, const std::string& format,
+                               const MeshWriteOptions& options) {
+  MeshTarget out = target_of(output, format);
+  if (options.quantize && out.format != MeshFormat::glb) {
+    throw Error("--quantize writes glTF's KHR_mesh_quantization; it needs glb output, not " +
+                std::string(extension(out.format)));
+  }
+  return out;
+}
 
 std::vector<fs::path> part_file_paths(const Scene& scene, const fs::path& dir, MeshFormat format) {
   return file_paths(parts_to_write(scene), dir, format);

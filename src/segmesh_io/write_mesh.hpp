@@ -18,12 +18,14 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "segmesh/scene.hpp"
 #include "segmesh_io/mesh_format.hpp"
 
 namespace segmesh {
+
 
 // How a scene is written, beyond its format.
 struct MeshWriteOptions {
@@ -32,6 +34,20 @@ struct MeshWriteOptions {
   // with quantize set is a segmesh::Error.
   bool quantize = false;
 };
+
+// Where a scene's meshes go, as `segmesh mesh -o OUTPUT [--format F]` says it (the Python
+// package's write the same): a path ending in "/" or naming a folder is a folder with one file
+// per part, in `format` ("" for ply); anything else one file whose extension names the format
+// (`format`, when given, must agree). Throws segmesh::Error in one line: an unknown format or
+// extension, a disagreement, a missing parent folder, options the format cannot carry
+// (quantize without glb). Touches nothing on disk.
+struct MeshTarget {
+  std::filesystem::path path;  // the file, or the folder without its trailing "/"
+  bool folder = false;
+  MeshFormat format = MeshFormat::ply;
+};
+MeshTarget resolve_mesh_target(const std::string& output, const std::string& format,
+                               const MeshWriteOptions& options);
 
 // Writes every part of `scene` into `file` (OBJ: also `file` with the extension .mtl). The
 // folder must exist.
