@@ -144,11 +144,12 @@ bool DecimationMesh::collapse_keeps_witnesses(uint32_t u, uint32_t v, Vec3d posi
                                               double limit2) {
   const bool collapse = u != v;
   const ListPool::Lease changed = pool.take();
-  for (uint32_t x : {u, v}) {
-    if (x == u && !collapse) continue;
-    for (uint32_t t : tris[x])
+  // The vertices whose triangles change: v, and u too in a collapse (a move has u == v).
+  const std::array<uint32_t, 2> around{v, u};
+  const size_t count = collapse ? 2 : 1;
+  for (size_t k = 0; k < count; ++k)
+    for (uint32_t t : tris[around[k]])
       if (alive_tri[t]) changed->push_back(t);
-  }
   std::sort(changed->begin(), changed->end());
   changed->erase(std::unique(changed->begin(), changed->end()), changed->end());
   auto corner = [&](uint32_t i) { return i == u || i == v ? position : pos[i]; };
@@ -156,9 +157,8 @@ bool DecimationMesh::collapse_keeps_witnesses(uint32_t u, uint32_t v, Vec3d posi
   add_fan(v, corner, collapse, u, v);
   if (collapse) add_fan(u, corner, collapse, u, v);
   return rewitness(*changed, limit2, [&] {
-    for (uint32_t x : {u, v}) {
-      if (x == u && !collapse) continue;
-      const ListPool::Lease ring = neighbours(x);
+    for (size_t k = 0; k < count; ++k) {
+      const ListPool::Lease ring = neighbours(around[k]);
       for (uint32_t w : *ring)
         if (w != u && w != v) add_fan(w, corner, collapse, u, v);
     }
