@@ -88,7 +88,8 @@ struct DecimateOptionsProblem {
 std::optional<DecimateOptionsProblem> decimate_options_problem(const DecimateOptions& options);
 
 // Every part's triangle budget (0: none): the scene's budget shared in proportion to the parts'
-// areas, and the per-part budget, whichever is smaller.
+// areas, each share at least kMinPartTriangles and the shares together within the budget (when
+// the minimum allows), and the per-part budget, whichever is smaller.
 std::vector<int64_t> part_triangle_budgets(const std::vector<double>& part_areas_mm2,
                                            const DecimateOptions& options);
 

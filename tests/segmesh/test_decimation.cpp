@@ -305,6 +305,17 @@ TEST(Decimation, BudgetsFollowTheAreas) {
       part_triangle_budgets({300, 100}, {.max_triangles = 1000, .max_triangles_per_part = 500});
   EXPECT_EQ(b, (std::vector<int64_t>{500, 250}));
   EXPECT_EQ(part_triangle_budgets({1, 1}, {.error_mm = 0.1}), (std::vector<int64_t>{0, 0}));
+  // Small parts keep the minimum; the larger ones give up what that costs, so the shares still
+  // add up to the budget at most.
+  const std::vector<int64_t> small =
+      part_triangle_budgets({1000, 10, 10, 10}, {.max_triangles = 1000});
+  EXPECT_EQ(small[1], kMinPartTriangles);
+  EXPECT_EQ(small[3], kMinPartTriangles);
+  EXPECT_LE(small[0] + small[1] + small[2] + small[3], 1000);
+  EXPECT_GE(small[0] + small[1] + small[2] + small[3], 995);
+  // Below what the minimum allows, every part gets the minimum.
+  EXPECT_EQ(part_triangle_budgets({1, 1}, {.max_triangles = 40}),
+            (std::vector<int64_t>{kMinPartTriangles, kMinPartTriangles}));
 }
 
 }  // namespace
