@@ -107,7 +107,9 @@ TEST(JointSmoothing, ThePhantomKeepsItsContactsAndVolumes) {
               measure_mesh(independent.parts[p].mesh).euler)
         << conforming.parts[p].name;
     // Bulky parts (the bones and the plate) keep their volume to 1 % as on their own.
-    if (conforming.parts[p].voxels > 10000) EXPECT_NEAR(a, b, 0.01 * b) << conforming.parts[p].name;
+    if (conforming.parts[p].voxels > 10000) {
+      EXPECT_NEAR(a, b, 0.01 * b) << conforming.parts[p].name;
+    }
   }
   // Every implant vertex on the bone contact is on both surfaces after the default smoothing.
   const std::vector<Vec3d> contact = contact_vertices(*conforming.surface);
