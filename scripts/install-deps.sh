@@ -3,7 +3,7 @@
 # use (the Khronos glTF validator). Idempotent: does nothing when everything is present.
 # Uses sudo only when not root.
 #   scripts/install-deps.sh              build, test and demo dependencies
-#   scripts/install-deps.sh --with-peers also the Python/VTK/scikit-image peers used by bench/
+#   scripts/install-deps.sh --with-peers also the Python/VTK/scikit-image/meshoptimizer peers used by bench/
 #   scripts/install-deps.sh --with-fuzz  also clang and libFuzzer (scripts/fuzz.sh, fuzz/)
 # (the flags combine: --with-peers --with-fuzz)
 set -euo pipefail
@@ -28,7 +28,8 @@ packages=(
 )
 for flag in "$@"; do
   case "$flag" in
-    --with-peers) packages+=(python3-vtk9 python3-skimage python3-numpy python3-nibabel python3-scipy) ;;
+    --with-peers) packages+=(python3-vtk9 python3-skimage python3-numpy python3-nibabel python3-scipy
+                             libmeshoptimizer-dev) ;;  # bench/compare_decimation.sh
     --with-fuzz) packages+=(clang libclang-rt-14-dev) ;;  # libFuzzer and the sanitizer runtimes
     *) echo "install-deps: unknown option $flag (use --with-peers, --with-fuzz)" >&2; exit 2 ;;
   esac
