@@ -18,13 +18,12 @@
 //     them (part_file_paths), decimated by the peer; SECONDS its own timing.
 // Measures (the library's own): mesh_deviation of every part against its undecimated mesh
 // (Hausdorff and p95: the largest over the parts; mean: the parts' means weighted by their
-// triangles), radii ratio pooled over all parts' triangles
-// and the slivers (radii ratio below 0.05), parts closed and manifold (measure_mesh: closed, no
-// non-manifold vertex), and the contact gap: for every vertex of a contact of the undecimated
-// surface more than 1 mm from the surface's other triangles, the nearest point of one part's
-// decimated shell, and that point's distance to the other part's decimated shell, both ways; the
-// largest. Shells
-// decimated together as one surface (segmesh) give 0; shells decimated alone give two surfaces.
+// triangles), radii ratio pooled over all parts' triangles and the slivers (radii ratio below
+// 0.05), parts closed and manifold (measure_mesh: closed, no non-manifold vertex), and the
+// contact gap: for every vertex of a contact of the undecimated surface more than 1 mm from the
+// surface's other triangles, the nearest point of one part's decimated shell, and that point's
+// distance to the other part's decimated shell, both ways; the largest. Shells decimated together
+// as one surface (segmesh) give 0; shells decimated alone give two surfaces.
 // Times: steady_clock, all in one run, so the ratios are of one machine state. A second table
 // gives every part's Hausdorff distance per method.
 #include <algorithm>
@@ -53,6 +52,9 @@ using namespace segmesh;
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// meshoptimizer reads the positions as packed floats.
+static_assert(sizeof(Vec3f) == 3 * sizeof(float));
 
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
