@@ -51,7 +51,10 @@
 // gets the share of its area (part_triangle_budgets). The per-part budget holds for each part on
 // both.
 //
-// Afterwards a few passes of edge flips improve the triangles' shape (detail/edge_flips.hpp).
+// Afterwards up to four rounds improve the triangles' shape, each keeping every witness: a pass
+// of edge flips and one of tangential relaxation (detail/decimation_passes.hpp), and a pass that
+// collapses an edge of every sliver (radii ratio below 0.05) when the collapse's cost is within
+// the bound and its checks pass.
 //
 // Order: cheapest first, in cost buckets 4.4 % wide (the last pushed first within one).
 // Deterministic: serial, the order fixed by the pushes, so the result does not depend on the
