@@ -354,7 +354,8 @@ Image read_metaimage(const fs::path& path, const ReadOptions& options) {
 
   // A detached data file is checked before ITK opens it (a pipe would block).
   const bool detached = lower(data_file) != "local";
-  const fs::path source = detached ? detached_data_file(path, data_file) : path;
+  const fs::path source =
+      detached ? detached_data_file(path, data_file, options.allow_external_data) : path;
   auto io = itk::MetaImageIO::New();
   const ItkHeader header = read_itk_header(*io, path);
   const std::array<int64_t, 3> dims = check_dims(path, header.dims);

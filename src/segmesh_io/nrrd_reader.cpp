@@ -94,7 +94,7 @@ struct DataPlace {
 // gzip data in this file or one detached file, and returns where they are (we decode those);
 // other encodings and multi-file data are left to ITK, which refuses short data too.
 std::optional<DataPlace> check_nrrd_data(const fs::path& path, const NrrdLayout& layout,
-                                         uint64_t needed) {
+                                         uint64_t needed, bool allow_external) {
   const bool gzip = layout.encoding == "gzip" || layout.encoding == "gz";
   if (!(gzip || layout.encoding == "raw")) return std::nullopt;
   if (names_several_files(layout.data_file)) return std::nullopt;
@@ -102,7 +102,7 @@ std::optional<DataPlace> check_nrrd_data(const fs::path& path, const NrrdLayout&
   fs::path source = path;
   uint64_t offset = layout.header_end;
   if (!layout.data_file.empty()) {
-    source = detached_data_file(path, layout.data_file);
+    source = detached_data_file(path, layout.data_file, allow_external);
     offset = 0;
   }
   if (layout.line_skip > 0) {
@@ -199,7 +199,11 @@ Image read_nrrd(const fs::path& path, const ReadOptions& options) {
   // forever, a device never end. One detached file is checked first (LIST and %-patterns name
   // several; ITK checks those).
   if (!layout.data_file.empty() && !names_several_files(layout.data_file)) {
-    detached_data_file(path, layout.data_file);
+    detached_data_file(path, layout.data_file, options.allow_external_data);
+  }
+  if (names_several_files(layout.data_file) && !options.allow_external_data) {
+    throw external_data_error(path, "its data are a list or pattern of files (data file: " +
+                                        layout.data_file + "), which are not checked one by one");
   }
   auto io = itk::NrrdImageIO::New();
   const ItkHeader header = read_itk_header(*io, path);
@@ -223,7 +227,8 @@ Image read_nrrd(const fs::path& path, const ReadOptions& options) {
   check_grid(path, header.grid, "space directions / spacings");
   const uint64_t count = header.grid.voxel_count();
   const uint64_t needed = count * header.component_size;
-  const std::optional<DataPlace> place = check_nrrd_data(path, layout, needed);
+  const std::optional<DataPlace> place =
+      check_nrrd_data(path, layout, needed, options.allow_external_data);
 
   VoxelSink sink(path, count, *header.type);
   // Raw and gzip data we decode ourselves, in one pass (with libdeflate for gzip); ITK reads

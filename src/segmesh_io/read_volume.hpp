@@ -49,6 +49,12 @@ namespace segmesh {
 struct ReadOptions {
   uint64_t max_voxels = 2'000'000'000;           // refuse larger volumes before allocating
   std::function<void(const std::string&)> warn;  // receives warnings (may be empty)
+  // false: a detached header (NRRD "data file", MetaImage ElementDataFile) whose data file lies
+  // outside the header's own folder (an absolute path elsewhere, "../", a symbolic link out of
+  // it) is refused, and so are NRRD data lists and patterns (several files, not checked one by
+  // one). For runs over inputs from many sources, where a header naming /etc/passwd should not
+  // be read and meshed without a word. The error names the option that allows it.
+  bool allow_external_data = true;
 };
 
 // Reads the volume at `path` (a file, or a folder holding a DICOM series).

@@ -168,6 +168,46 @@ TEST(ReadVolumeNrrd, GzipAndDetachedData) {
   expect_error([&] { read_volume(dir / "lost.nhdr"); }, {"lost.nhdr: "});
 }
 
+// ReadOptions::allow_external_data off (what batch runs over inputs from many sources use): a
+// detached header may name data in its own folder (or below it), not elsewhere, whether by an
+// absolute path, "../" or a symbolic link out of the folder, in NRRD and MetaImage alike; data
+// lists are refused too. Allowed (the default), the same headers read.
+TEST(ReadVolumeNrrd, ExternalDataIsRefusedWhenNotAllowed) {
+  const fs::path root = test::scratch_dir("external_data");
+  const fs::path dir = root / "case";
+  fs::create_directories(dir / "sub");
+  Bytes voxels;
+  for (int16_t i = 0; i < 60; ++i) volume_test::put<int16_t>(voxels, voxels.size(), i);
+  const std::string fields =
+      "type: short\ndimension: 3\nspace: left-posterior-superior\nsizes: 5 4 3\n"
+      "space directions: (1,0,0) (0,1,0) (0,0,1)\nendian: little\nspace origin: (0,0,0)\n";
+  volume_test::write_bytes(root / "outside.raw", voxels);
+  volume_test::write_bytes(dir / "sub" / "inside.raw", voxels);
+  fs::create_symlink(root / "outside.raw", dir / "link.raw");
+  const auto nhdr = [&](const std::string& name, const std::string& data) {
+    volume_test::write_text(dir / name, "NRRD0004\n" + fields + "encoding: raw\ndata file: " + data + "\n");
+  };
+  nhdr("inside.nhdr", "sub/inside.raw");
+  nhdr("up.nhdr", "../outside.raw");
+  nhdr("absolute.nhdr", (root / "outside.raw").string());
+  nhdr("link.nhdr", "link.raw");
+  nhdr("list.nhdr", "LIST\nsub/inside.raw");
+  volume_test::write_text(dir / "up.mhd",
+                          "ObjectType = Image\nNDims = 3\nDimSize = 5 4 3\nElementSpacing = 1 1 1\n"
+                          "ElementType = MET_SHORT\nElementDataFile = ../outside.raw\n");
+  const ReadOptions refuse{.allow_external_data = false};
+  EXPECT_EQ(labels_of(read_volume(dir / "inside.nhdr", refuse)).voxels.size(), 60u);
+  for (const char* name : {"up.nhdr", "absolute.nhdr", "link.nhdr", "up.mhd"}) {
+    SCOPED_TRACE(name);
+    expect_error([&] { read_volume(dir / name, refuse); },
+                 {std::string(name) + ": its data file \"", "\" lies outside its folder; pass "
+                  "--allow-external-data to read it anyway"});
+    EXPECT_EQ(labels_of(read_volume(dir / name)).voxels.size(), 60u);  // allowed by default
+  }
+  expect_error([&] { read_volume(dir / "list.nhdr", refuse); },
+               {"list.nhdr: its data are a list or pattern of files", "--allow-external-data"});
+}
+
 TEST(ReadVolumeNrrdErrors, Truncated) {
   const fs::path dir = test::scratch_dir("nrrd_truncated");
   const std::string header =

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -144,9 +145,23 @@ void check_data_file(const fs::path& header, const fs::path& data) {
   ::close(fd);
 }
 
-fs::path detached_data_file(const fs::path& header, const std::string& name) {
+Error external_data_error(const fs::path& header, const std::string& what) {
+  return file_error(header, what + "; pass --allow-external-data to read it anyway");
+}
+
+fs::path detached_data_file(const fs::path& header, const std::string& name, bool allow_external) {
   fs::path data = name;
   if (data.is_relative()) data = header.parent_path() / data;
+  if (!allow_external) {
+    // Both resolved (symbolic links and ".." included), then the folder must be a prefix.
+    std::error_code e1, e2;
+    const fs::path folder = fs::weakly_canonical(fs::absolute(header).parent_path(), e1);
+    const fs::path target = fs::weakly_canonical(fs::absolute(data), e2);
+    const auto [f, t] = std::mismatch(folder.begin(), folder.end(), target.begin(), target.end());
+    if (e1 || e2 || f != folder.end()) {
+      throw external_data_error(header, "its data file \"" + name + "\" lies outside its folder");
+    }
+  }
   check_data_file(header, data);
   return data;
 }

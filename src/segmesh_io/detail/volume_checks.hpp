@@ -65,9 +65,14 @@ Error truncated_error(const std::filesystem::path& path, uint64_t needed, uint64
 void check_data_file(const std::filesystem::path& header, const std::filesystem::path& data);
 
 // The detached data file `name` that `header` names (a relative name is relative to the header's
-// folder), after check_data_file.
+// folder), after check_data_file; unless `allow_external`, refused when it lies outside the
+// header's folder (ReadOptions::allow_external_data).
 std::filesystem::path detached_data_file(const std::filesystem::path& header,
-                                         const std::string& name);
+                                         const std::string& name, bool allow_external);
+
+// The error for data a header names outside its folder (or in several files) when
+// ReadOptions::allow_external_data is off.
+Error external_data_error(const std::filesystem::path& header, const std::string& what);
 
 // The size of a regular file; Error naming `path` when it cannot be read.
 uint64_t size_of_file(const std::filesystem::path& path);
