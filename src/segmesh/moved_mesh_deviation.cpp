@@ -23,70 +23,46 @@ constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
 // number of threads.
 constexpr size_t kSampleBlock = 4096;
 
-// A fixed pseudo-random choice of samples: sample s is measured for the statistics when its hash
-// falls below `threshold` (out of 2^32).
-bool chosen(uint64_t s, uint64_t threshold) {
-  uint64_t h = (s + 1) * 0x9E3779B97F4A7C15ull;
+// A fixed pseudo-random number for stratum j.
+uint64_t stratum_hash(uint64_t j) {
+  uint64_t h = (j + 1) * 0x9E3779B97F4A7C15ull;
   h ^= h >> 29;
   h *= 0xBF58476D1CE4E5B9ull;
   h ^= h >> 32;
-  return (h & 0xffffffffu) < threshold;
+  return h;
 }
 
-// Searches the samples that `each` offers (each(add) calls add(s) for every sample id s to
-// search; sample(s, p, bound, start) as in measure_direction) in groups of kTreeGroup, each below
-// its counterpart's distance, stopping at its start leaf when that brings it to `enough2`; calls
-// found(distance) for each, in the order offered.
-template <class Each, class Sample, class Found>
-void search_in_groups(const OrderedTriangleTree& target, Each&& each, Sample&& sample,
-                      double enough2, Found&& found) {
-  Vec3d p[kTreeGroup];
-  double best2[kTreeGroup];
-  size_t start[kTreeGroup];
-  size_t count = 0;
-  auto flush = [&] {
-    target.nearest2_group(p, best2, start, count, enough2);
-    for (size_t k = 0; k < count; ++k) found(std::sqrt(best2[k]));
-    count = 0;
-  };
-  each([&](size_t s) {
-    double bound;
-    if (!sample(s, p[count], bound, start[count])) return;
-    best2[count] = bound * bound;
-    if (++count == kTreeGroup) flush();
-  });
-  if (count > 0) flush();
-}
+// The samples of the two surfaces: the mesh's triangles over the positions `before` and `after`.
+// Sample s < vertex count is vertex s (when a triangle uses it), sample vertex count + t the
+// centroid of triangle t; `forward` measures the samples of `before` against `after`, otherwise
+// the other way round. The statistics take one sample per stratum of `stride` consecutive ids
+// (every sample when the stride is 1), at a fixed pseudo-random place in the stratum, the same in
+// both directions.
+struct Samples {
+  const std::vector<Vec3f>& before;
+  const std::vector<Vec3f>& after;
+  const std::vector<uint32_t>& idx;
+  const std::vector<uint32_t>& first;
+  size_t stride = 1;
 
-struct Direction {
-  std::vector<double> distances;  // of the samples measured for the statistics
-  double sum = 0;                 // their sum
-  double max = 0;                 // the largest distance over every sample
-};
+  size_t vertices() const { return before.size(); }
+  size_t count() const { return before.size() + idx.size() / 3; }
+  bool chosen(size_t s) const { return stride == 1 || s % stride == stratum_hash(s / stride) % stride; }
 
-// The samples of the surface (from, idx) measured against `target` (the same triangles at the
-// positions `to`): sample s < vertex count is vertex s (when a triangle uses it), sample
-// vertex count + t the centroid of triangle t.
-Direction measure_direction(const std::vector<Vec3f>& from, const std::vector<Vec3f>& to,
-                            const std::vector<uint32_t>& idx, const std::vector<uint32_t>& first,
-                            size_t used, const OrderedTriangleTree& target,
-                            size_t statistic_samples) {
-  const size_t nv = from.size(), nt = idx.size() / 3, n = nv + nt;
-  const size_t count = used + nt;
-  const uint64_t threshold = count <= statistic_samples
-                                 ? (uint64_t{1} << 32)
-                                 : uint64_t((double(statistic_samples) / double(count)) * 4294967296.0);
-  // A sample's point, its counterpart's distance and the triangle that starts its search; false
-  // for a vertex no triangle uses.
-  auto sample = [&](size_t s, Vec3d& p, double& bound, size_t& start) {
+  // Sample s's point on its surface, its counterpart's distance (which bounds its own: the
+  // counterpart lies on the other surface) and the triangle that starts its search; false for a
+  // vertex no triangle uses.
+  bool get(size_t s, bool forward, Vec3d& p, double& bound, size_t& start) const {
+    const std::vector<Vec3f>& from = forward ? before : after;
+    const std::vector<Vec3f>& to = forward ? after : before;
     Vec3d q;
-    if (s < nv) {
+    if (s < vertices()) {
       if (first[s] == kNone) return false;
       p = to_double(from[s]);
       q = to_double(to[s]);
       start = first[s];
     } else {
-      const size_t t = s - nv;
+      const size_t t = s - vertices();
       const uint32_t* x = &idx[3 * t];
       p = (1.0 / 3.0) * (to_double(from[x[0]]) + to_double(from[x[1]]) + to_double(from[x[2]]));
       q = (1.0 / 3.0) * (to_double(to[x[0]]) + to_double(to[x[1]]) + to_double(to[x[2]]));
@@ -94,51 +70,85 @@ Direction measure_direction(const std::vector<Vec3f>& from, const std::vector<Ve
     }
     bound = norm(p - q);
     return true;
-  };
+  }
+};
+
+struct Statistics {
+  std::vector<double> distances;  // of the samples measured
+  double sum = 0;                 // their sum
+  double max = 0;                 // their largest
+};
+
+// The chosen samples of one direction, each measured exactly against `target`, searched in
+// groups of kTreeGroup consecutive ones (close together: the samples follow the vertex and
+// triangle order), each below its counterpart's distance and starting at its start leaf.
+Statistics measure_statistics(const Samples& samples, bool forward, const OrderedTriangleTree& target) {
+  const size_t n = samples.count();
   const size_t blocks = (n + kSampleBlock - 1) / kSampleBlock;
   std::vector<std::vector<double>> block_distances(blocks);
   std::vector<double> block_sum(blocks, 0.0), block_max(blocks, 0.0);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t>& r) {
+    Vec3d p[kTreeGroup];
+    double best2[kTreeGroup];
+    size_t start[kTreeGroup];
     for (size_t b = r.begin(); b != r.end(); ++b) {
       double sum = 0, max = 0;
       std::vector<double>& out = block_distances[b];
-      search_in_groups(
-          target,
-          [&](auto&& add) {
-            for (size_t s = b * kSampleBlock, end = std::min(n, (b + 1) * kSampleBlock); s < end; ++s)
-              if (chosen(s, threshold)) add(s);
-          },
-          sample, -1, [&](double d) {
-            out.push_back(d);
-            sum += d;
-            max = std::max(max, d);
-          });
+      size_t count = 0;
+      auto flush = [&] {
+        if (samples.stride == 1) {
+          target.nearest2_group(p, best2, start, count);
+        } else {
+          for (size_t k = 0; k < count; ++k) best2[k] = target.nearest2(p[k], best2[k], start[k]);
+        }
+        for (size_t k = 0; k < count; ++k) {
+          const double d = std::sqrt(best2[k]);
+          out.push_back(d);
+          sum += d;
+          max = std::max(max, d);
+        }
+        count = 0;
+      };
+      for (size_t s = b * kSampleBlock, end = std::min(n, (b + 1) * kSampleBlock); s < end; ++s) {
+        double bound;
+        if (!samples.chosen(s) || !samples.get(s, forward, p[count], bound, start[count])) continue;
+        best2[count] = bound * bound;
+        if (++count == kTreeGroup) flush();
+      }
+      if (count > 0) flush();
       block_sum[b] = sum;
       block_max[b] = max;
     }
   });
-  Direction dir;
+  Statistics stats;
   size_t measured = 0;
   for (size_t b = 0; b < blocks; ++b) {
-    dir.sum += block_sum[b];
-    dir.max = std::max(dir.max, block_max[b]);
+    stats.sum += block_sum[b];
+    stats.max = std::max(stats.max, block_max[b]);
     measured += block_distances[b].size();
   }
-  dir.distances.reserve(measured);
+  stats.distances.reserve(measured);
   for (auto& d : block_distances) {
-    dir.distances.insert(dir.distances.end(), d.begin(), d.end());
+    stats.distances.insert(stats.distances.end(), d.begin(), d.end());
     d = {};
   }
-  if (threshold >> 32) return dir;
+  return stats;
+}
 
-  // The largest distance over the samples not measured yet: only those whose counterpart is
-  // farther than the largest distance found can exceed it. The few with the largest bounds are
-  // searched first, alone, to raise the largest distance early; then the rest still above it, in
-  // sample order and in groups, each stopping at its start leaf when that shows it is no larger.
+// The largest distance over every sample of both directions, given `largest`: the largest
+// found among the measured ones. A sample's counterpart distance bounds its own (in both
+// directions: it is the same), so only the samples not measured whose bound exceeds the largest
+// distance found can change it. The few with the largest bounds are searched first, to raise
+// it early; then the rest still above it, each search ending as soon as a triangle within the
+// largest distance shows that the sample does not exceed it.
+double largest_distance(const Samples& samples, const OrderedTriangleTree& after_tree,
+                        const OrderedTriangleTree& before_tree, double largest) {
   struct Candidate {
     double bound;
     size_t sample;
   };
+  const size_t n = samples.count();
+  const size_t blocks = (n + kSampleBlock - 1) / kSampleBlock;
   std::vector<std::vector<Candidate>> block_candidates(blocks);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t b = r.begin(); b != r.end(); ++b)
@@ -146,45 +156,48 @@ Direction measure_direction(const std::vector<Vec3f>& from, const std::vector<Ve
         Vec3d p;
         double bound;
         size_t start;
-        if (chosen(s, threshold) || !sample(s, p, bound, start)) continue;
-        if (bound > dir.max) block_candidates[b].push_back({bound, s});
+        if (samples.chosen(s) || !samples.get(s, true, p, bound, start)) continue;
+        if (bound > largest) block_candidates[b].push_back({bound, s});
       }
   });
-  std::vector<Candidate> largest;
-  for (const auto& c : block_candidates) largest.insert(largest.end(), c.begin(), c.end());
+  // Sample s in both directions: the largest of its two distances where one exceeds `below`,
+  // otherwise a value no larger than `below`.
+  auto search = [&](size_t s, double below) {
+    double d2 = 0;
+    for (bool forward : {true, false}) {
+      Vec3d p;
+      double bound = 0;
+      size_t start = 0;
+      samples.get(s, forward, p, bound, start);
+      const OrderedTriangleTree& target = forward ? after_tree : before_tree;
+      d2 = std::max(d2, target.nearest2(p, bound * bound, start, std::max(below * below, d2)));
+    }
+    return std::sqrt(d2);
+  };
+  std::vector<Candidate> first;
+  for (const auto& c : block_candidates) first.insert(first.end(), c.begin(), c.end());
   constexpr size_t kFirst = 1024;
   auto by_bound = [](const Candidate& a, const Candidate& b) {
     return a.bound > b.bound || (a.bound == b.bound && a.sample < b.sample);
   };
-  if (largest.size() > kFirst) {
-    std::nth_element(largest.begin(), largest.begin() + kFirst, largest.end(), by_bound);
-    largest.resize(kFirst);
+  if (first.size() > kFirst) {
+    std::nth_element(first.begin(), first.begin() + kFirst, first.end(), by_bound);
+    first.resize(kFirst);
   }
-  std::vector<double> found(largest.size(), 0.0);
-  tbb::parallel_for(size_t{0}, largest.size(), [&](size_t c) {
-    Vec3d p;
-    double bound;
-    size_t start;
-    sample(largest[c].sample, p, bound, start);
-    found[c] = std::sqrt(target.nearest2(p, bound * bound, start, dir.max * dir.max));
-  });
-  for (double d : found) dir.max = std::max(dir.max, d);
-  const double max = dir.max;
+  std::vector<double> found(first.size(), 0.0);
+  tbb::parallel_for(size_t{0}, first.size(), [&](size_t c) { found[c] = search(first[c].sample, largest); });
+  for (double d : found) largest = std::max(largest, d);
+  std::vector<double> block_max(blocks, 0.0);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t b = r.begin(); b != r.end(); ++b) {
       double block = 0;
-      search_in_groups(
-          target,
-          [&](auto&& add) {
-            for (const Candidate& c : block_candidates[b])
-              if (c.bound > max) add(c.sample);
-          },
-          sample, max * max, [&](double d) { block = std::max(block, d); });
+      for (const Candidate& c : block_candidates[b])
+        if (c.bound > largest) block = std::max(block, search(c.sample, largest));
       block_max[b] = block;
     }
   });
-  for (size_t b = 0; b < blocks; ++b) dir.max = std::max(dir.max, block_max[b]);
-  return dir;
+  for (double d : block_max) largest = std::max(largest, d);
+  return largest;
 }
 
 }  // namespace
@@ -206,19 +219,19 @@ Deviation moved_mesh_deviation(const std::vector<Vec3f>& before, const TriMesh& 
         }
       }
   });
-  const size_t used = size_t(std::count_if(first.begin(), first.end(), [](uint32_t t) { return t != kNone; }));
+  Samples samples{before, after.positions, idx, first};
+  const size_t n = samples.count();
+  if (statistic_samples > 0 && n > statistic_samples) samples.stride = (n + statistic_samples - 1) / statistic_samples;
   std::optional<OrderedTriangleTree> tree_before, tree_after;
   tbb::parallel_invoke([&] { tree_before.emplace(before.data(), idx.data(), nt); },
                        [&] { tree_after.emplace(after.positions.data(), idx.data(), nt); });
-  Direction ab = measure_direction(before, after.positions, idx, first, used, *tree_after,
-                                   statistic_samples);
-  tree_after.reset();
-  Direction ba = measure_direction(after.positions, before, idx, first, used, *tree_before,
-                                   statistic_samples);
+  Statistics ab = measure_statistics(samples, true, *tree_after);
+  Statistics ba = measure_statistics(samples, false, *tree_before);
   Deviation dev;
   // One addition of two partial sums is commutative, which makes the mean exactly symmetric.
   dev.mean = (ab.sum + ba.sum) / double(ab.distances.size() + ba.distances.size());
   dev.hausdorff = std::max(ab.max, ba.max);
+  if (samples.stride > 1) dev.hausdorff = largest_distance(samples, *tree_after, *tree_before, dev.hausdorff);
   ab.distances.insert(ab.distances.end(), ba.distances.begin(), ba.distances.end());
   ba.distances = {};
   dev.p95 = percentile(ab.distances, 0.95);

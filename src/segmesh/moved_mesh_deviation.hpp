@@ -12,20 +12,23 @@
 // - The bound. Every sample has a counterpart on the other mesh (the same vertex, the same
 //   triangle's centroid) whose distance bounds its own, and a triangle at that distance: the
 //   search starts with the leaf holding that triangle, which usually holds the closest one too,
-//   and then looks only at leaves nearer than the best distance so far. Samples are searched in
-//   groups of 16 consecutive ones (close together, as the samples follow the vertex and triangle
-//   order): one walk down the tree finds the leaves near the whole group (16 % faster than a walk
-//   per sample on the phantom).
+//   and then looks only at leaves nearer than the best distance so far. When every sample is
+//   measured, samples are searched in groups of 16 consecutive ones (close together, as the
+//   samples follow the vertex and triangle order): one walk down the tree finds the leaves near
+//   the whole group (16 % faster than a walk per sample on the phantom).
 // - The sample count. The mean and the 95th percentile are statistics of the sample distribution:
-//   above `statistic_samples` samples in one direction they are taken over a fixed pseudo-random
-//   subset of that many (the same for any thread count; at 2^20 the estimates are within 0.1 % of
-//   the full ones on make_big.py's map, whose bone has 7.8 M samples a direction; every part of
-//   the phantom is below it; docs/PERFORMANCE.md). The Hausdorff distance is not a statistic: it
-//   stays the exact largest over every sample. Each unmeasured sample's counterpart distance
-//   bounds its own, so only samples whose bound exceeds the largest distance found are searched:
-//   the 1024 largest bounds first, to raise it early, then the rest still above it in groups.
-//   Below the limit every sample is measured and every number equals mesh_deviation's up to the
-//   rounding of the sums.
+//   above `statistic_samples` samples in one direction they are taken over a stratified subset
+//   of about that many: one sample in every stratum of `stride` consecutive ids (neighbours on
+//   the surface), at a fixed pseudo-random place in it, the same for any thread count and both
+//   directions. At 2^16 the estimates are within 0.4 % of the full ones on every part of the
+//   phantom and on make_big.py's bone (7.8 M samples a direction), and within 1 % on the
+//   test-size phantom (a test); docs/PERFORMANCE.md. The Hausdorff distance is not a statistic:
+//   it stays the exact largest over every sample of both directions. Each unmeasured sample's
+//   counterpart distance bounds its own in both directions, so only samples whose bound exceeds
+//   the largest distance found are searched, both ways: the 1024 largest bounds first, to raise
+//   it early, then the rest still above it, each search ending at the first triangle or corner
+//   within the largest distance (most end in their start leaf). Below the limit every sample is
+//   measured and every number equals mesh_deviation's up to the rounding of the sums.
 //
 // Memory: the tree (about 3 bytes per triangle), one triangle id per vertex, and the measured
 // distances in double (at most statistic_samples per direction).
@@ -39,7 +42,7 @@
 
 namespace segmesh {
 
-inline constexpr size_t kDeviationStatisticSamples = size_t{1} << 20;
+inline constexpr size_t kDeviationStatisticSamples = size_t{1} << 16;
 
 // The deviation between the surface with `before` as positions and after.indices as triangles,
 // and `after`. Preconditions: before.size() == after.positions.size(), every index in range,

@@ -94,7 +94,9 @@ TEST(MovedMeshDeviation, EqualsBruteForceOnRandomlyMovedSmallMeshes) {
     EXPECT_NEAR(fast.hausdorff, slow.hausdorff, 1e-12) << amplitude;
     EXPECT_NEAR(fast.mean, slow.mean, 1e-12) << amplitude;
     EXPECT_NEAR(fast.p95, slow.p95, 1e-12) << amplitude;
-    if (amplitude == 0) EXPECT_EQ(fast.hausdorff, 0.0);
+    if (amplitude == 0) {
+      EXPECT_EQ(fast.hausdorff, 0.0);
+    }
   }
 }
 

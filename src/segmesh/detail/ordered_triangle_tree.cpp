@@ -84,16 +84,27 @@ OrderedTriangleTree::OrderedTriangleTree(const Vec3f* pos, const uint32_t* idx, 
 }
 
 // Each triangle's own box is tried first: most triangles of a leaf are farther than the best
-// distance, and the box rejects them at a fraction of the exact test's cost.
-void OrderedTriangleTree::test_leaf(Vec3d p, uint64_t leaf, double& best) const {
+// distance, and the box rejects them at a fraction of the exact test's cost. A caller that only
+// asks whether the distance is at most `enough2` is answered by the first corner or triangle
+// that close: the rest of the leaf is skipped.
+void OrderedTriangleTree::test_leaf(Vec3d p, uint64_t leaf, double& best, double enough2) const {
   for (size_t t = leaf_begin(leaf), end = leaf_begin(leaf + 1); t < end; ++t) {
     const Vec3f fa = pos_[idx_[3 * t]], fb = pos_[idx_[3 * t + 1]], fc = pos_[idx_[3 * t + 2]];
     Box box{{fa.x, fa.y, fa.z}, {fa.x, fa.y, fa.z}};
     box.add(fb);
     box.add(fc);
     if (!(box.distance2(p) < best)) continue;
-    const Vec3d q = p - closest_point_on_triangle(p, to_double(fa), to_double(fb), to_double(fc));
+    const Vec3d a = to_double(fa), b = to_double(fb), c = to_double(fc);
+    if (enough2 >= 0) {
+      const double corner = std::min({dot(p - a, p - a), dot(p - b, p - b), dot(p - c, p - c)});
+      if (corner <= enough2) {
+        best = std::min(best, corner);
+        return;
+      }
+    }
+    const Vec3d q = p - closest_point_on_triangle(p, a, b, c);
     best = std::min(best, dot(q, q));
+    if (best <= enough2) return;
   }
 }
 
@@ -102,7 +113,7 @@ double OrderedTriangleTree::nearest2(Vec3d p, double bound2, size_t start, doubl
   const uint64_t first = (uint64_t{1} << levels_) - 1;
   const uint64_t start_leaf = start == kNoStart ? ~uint64_t{0} : leaf_of(start);
   if (start != kNoStart) {
-    test_leaf(p, start_leaf, best);
+    test_leaf(p, start_leaf, best, enough2);
     if (best <= enough2) return best;
   }
   struct Entry {
@@ -116,7 +127,8 @@ double OrderedTriangleTree::nearest2(Vec3d p, double bound2, size_t start, doubl
     const Entry e = stack[--top];
     if (!(e.distance2 < best)) continue;
     if (e.node >= first) {
-      if (e.node - first != start_leaf) test_leaf(p, e.node - first, best);
+      if (e.node - first != start_leaf) test_leaf(p, e.node - first, best, enough2);
+      if (best <= enough2) return best;
       continue;
     }
     Entry near{2 * e.node + 1, boxes_[2 * e.node + 1].distance2(p)};
@@ -138,7 +150,7 @@ void OrderedTriangleTree::nearest2_group(const Vec3d* p, double* bound2, const s
   Box region{{kInfF, kInfF, kInfF}, {-kInfF, -kInfF, -kInfF}};
   for (size_t k = 0; k < count; ++k) {
     start_leaf[k] = leaf_of(start[k]);
-    test_leaf(p[k], start_leaf[k], bound2[k]);
+    test_leaf(p[k], start_leaf[k], bound2[k], enough2);
     active[k] = bound2[k] > enough2;
     if (!active[k]) continue;
     any = true;
@@ -164,11 +176,15 @@ void OrderedTriangleTree::nearest2_group(const Vec3d* p, double* bound2, const s
       continue;
     }
     const uint64_t leaf = node - first;
+    bool left = false;
     for (size_t k = 0; k < count; ++k) {
       if (active[k] && leaf != start_leaf[k] && boxes_[node].distance2(p[k]) < bound2[k]) {
-        test_leaf(p[k], leaf, bound2[k]);
+        test_leaf(p[k], leaf, bound2[k], enough2);
+        active[k] = bound2[k] > enough2;
       }
+      left = left || active[k];
     }
+    if (!left) return;
   }
 }
 

@@ -32,14 +32,16 @@ class OrderedTriangleTree {
 
   // The squared distance from p to the closest triangle when it is below bound2, else bound2.
   // With `start`, the search begins with the leaf of that triangle (where a caller expects the
-  // closest one); when that leaf alone brings it to `enough2` or below, that is returned: a
-  // caller that only needs to know whether the distance exceeds a value skips the rest.
+  // closest one). As soon as a corner or a triangle at `enough2` or below is found, in the start
+  // leaf or anywhere later, that value is returned: a caller that only needs to know whether the
+  // distance exceeds a value skips the rest of the search.
   double nearest2(Vec3d p, double bound2 = std::numeric_limits<double>::infinity(),
                   size_t start = kNoStart, double enough2 = -1) const;
 
   // The same for a group of nearby points (count <= kTreeGroup), bound2[k] updated in place and
   // start[k] required: after the start leaves, one walk down the tree collects the leaves near
-  // the whole group (within each point's best distance so far), and each point tests only those.
+  // the whole group (within each point's best distance so far), and each point tests only those;
+  // a point that reaches `enough2` stops, and the walk stops when every point has.
   void nearest2_group(const Vec3d* p, double* bound2, const size_t* start, size_t count,
                       double enough2 = -1) const;
 
@@ -55,7 +57,7 @@ class OrderedTriangleTree {
   size_t leaf_begin(uint64_t leaf) const { return (leaf * n_) >> levels_; }
   // The leaf j with leaf_begin(j) <= t < leaf_begin(j + 1).
   uint64_t leaf_of(size_t t) const { return (((uint64_t{t} + 1) << levels_) + n_ - 1) / n_ - 1; }
-  void test_leaf(Vec3d p, uint64_t leaf, double& best) const;
+  void test_leaf(Vec3d p, uint64_t leaf, double& best, double enough2) const;
 
   const Vec3f* pos_;
   const uint32_t* idx_;
