@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <optional>
 
@@ -138,27 +139,34 @@ Statistics measure_statistics(const Samples& samples, bool forward, const Ordere
 // The largest distance over every sample of both directions, given `largest`: the largest
 // found among the measured ones. A sample's counterpart distance bounds its own (in both
 // directions: it is the same), so only the samples not measured whose bound exceeds the largest
-// distance found can change it. The few with the largest bounds are searched first, to raise
+// distance found can change it. The kFirst with the largest bounds are searched first, to raise
 // it early; then the rest still above it, each search ending as soon as a triangle within the
 // largest distance shows that the sample does not exceed it.
 double largest_distance(const Samples& samples, const OrderedTriangleTree& after_tree,
                         const OrderedTriangleTree& before_tree, double largest) {
+  // 8 bytes a candidate (on make_big.py's bone about a million): its bound rounded up to float
+  // (a conservative filter; the search recomputes it) and its place in its block.
   struct Candidate {
-    double bound;
-    size_t sample;
+    float bound;
+    uint32_t offset;
   };
   const size_t n = samples.count();
   const size_t blocks = (n + kSampleBlock - 1) / kSampleBlock;
   std::vector<std::vector<Candidate>> block_candidates(blocks);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t b = r.begin(); b != r.end(); ++b)
+    for (size_t b = r.begin(); b != r.end(); ++b) {
+      std::vector<Candidate>& out = block_candidates[b];
       for (size_t s = b * kSampleBlock, end = std::min(n, (b + 1) * kSampleBlock); s < end; ++s) {
         Vec3d p;
         double bound;
         size_t start;
-        if (samples.chosen(s) || !samples.get(s, true, p, bound, start)) continue;
-        if (bound > largest) block_candidates[b].push_back({bound, s});
+        if (samples.chosen(s) || !samples.get(s, true, p, bound, start) || !(bound > largest)) continue;
+        float up = float(bound);
+        if (double(up) < bound) up = std::nextafter(up, std::numeric_limits<float>::infinity());
+        out.push_back({up, uint32_t(s - b * kSampleBlock)});
       }
+      out.shrink_to_fit();
+    }
   });
   // Sample s in both directions: the largest of its two distances where one exceeds `below`,
   // otherwise a value no larger than `below`.
@@ -174,29 +182,32 @@ double largest_distance(const Samples& samples, const OrderedTriangleTree& after
     }
     return std::sqrt(d2);
   };
-  std::vector<Candidate> first;
-  for (const auto& c : block_candidates) first.insert(first.end(), c.begin(), c.end());
+  // The bound of the kFirst-th candidate: those at or above it go first.
   constexpr size_t kFirst = 1024;
-  auto by_bound = [](const Candidate& a, const Candidate& b) {
-    return a.bound > b.bound || (a.bound == b.bound && a.sample < b.sample);
-  };
-  if (first.size() > kFirst) {
-    std::nth_element(first.begin(), first.begin() + kFirst, first.end(), by_bound);
-    first.resize(kFirst);
-  }
-  std::vector<double> found(first.size(), 0.0);
-  tbb::parallel_for(size_t{0}, first.size(), [&](size_t c) { found[c] = search(first[c].sample, largest); });
-  for (double d : found) largest = std::max(largest, d);
-  std::vector<double> block_max(blocks, 0.0);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t b = r.begin(); b != r.end(); ++b) {
-      double block = 0;
-      for (const Candidate& c : block_candidates[b])
-        if (c.bound > largest) block = std::max(block, search(c.sample, largest));
-      block_max[b] = block;
+  float first = 0;
+  {
+    std::vector<float> bounds;
+    for (const auto& c : block_candidates)
+      for (const Candidate& x : c) bounds.push_back(x.bound);
+    if (bounds.size() > kFirst) {
+      std::nth_element(bounds.begin(), bounds.begin() + (kFirst - 1), bounds.end(), std::greater<>());
+      first = bounds[kFirst - 1];
     }
-  });
-  for (double d : block_max) largest = std::max(largest, d);
+  }
+  std::vector<double> block_max(blocks, 0.0);
+  for (bool early : {true, false}) {
+    const double below = largest;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t b = r.begin(); b != r.end(); ++b) {
+        double block = 0;
+        for (const Candidate& c : block_candidates[b])
+          if ((c.bound >= first) == early && c.bound > below)
+            block = std::max(block, search(b * kSampleBlock + c.offset, below));
+        block_max[b] = std::max(block_max[b], block);
+      }
+    });
+    for (double d : block_max) largest = std::max(largest, d);
+  }
   return largest;
 }
 
