@@ -69,9 +69,4 @@ nlohmann::json grid_json(const Grid& grid) {
           {"direction", grid.direction}};
 }
 
-double ms_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
-
 }  // namespace segmesh::cli

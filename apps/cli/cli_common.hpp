@@ -14,6 +14,7 @@
 
 #include "segmesh/grid.hpp"
 #include "segmesh/image.hpp"
+#include "segmesh_io/mesh_report.hpp"
 
 namespace segmesh::cli {
 
@@ -38,7 +39,6 @@ std::array<T, 3> parse_triple(const std::string& text, const std::string& option
 
 nlohmann::json grid_json(const Grid& grid);
 
-// Milliseconds since `start`.
-double ms_since(std::chrono::steady_clock::time_point start);
+using segmesh::ms_since;  // milliseconds since a start (segmesh_io/mesh_report.hpp)
 
 }  // namespace segmesh::cli

@@ -2,8 +2,6 @@
 // with --iso), splits it into parts, extracts each (Marching Cubes or Dual Contouring), writes the
 // meshes, the conforming surface as an atlas (--atlas) and a report. Every check that can fail on
 // the user's input runs before the long work starts.
-#include <tbb/task_group.h>
-
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -14,7 +12,6 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
-#include "mesh_report.hpp"
 #include "meshing_args.hpp"
 #include "progress_bar.hpp"
 #include "segmesh/error.hpp"
@@ -23,6 +20,7 @@
 #include "segmesh_io/atlas_writer.hpp"
 #include "segmesh_io/atomic_file.hpp"
 #include "segmesh_io/mesh_format.hpp"
+#include "segmesh_io/mesh_job.hpp"
 #include "segmesh_io/write_mesh.hpp"
 
 namespace segmesh::cli {
@@ -44,15 +42,6 @@ struct MeshArgs {
   bool quantize = false;
   ReadArgs read;
 };
-
-// Whether two paths name the same file or folder, however spelled ("a.ply", "./a.ply"); neither
-// needs to exist.
-bool same_path(const fs::path& a, const fs::path& b) {
-  std::error_code e1, e2;
-  const fs::path ca = fs::weakly_canonical(fs::absolute(a), e1);
-  const fs::path cb = fs::weakly_canonical(fs::absolute(b), e2);
-  return e1 || e2 ? a == b : ca == cb;
-}
 
 // Throws when the outputs of `option` and `other_option` are the same file.
 void refuse_same_file(const std::string& path, const char* option, const fs::path& other,
@@ -85,17 +74,23 @@ void check_atlas(const MeshArgs& args, const MeshingOptions& options,
   if (!args.report.empty()) refuse_same_file(args.atlas, "--atlas", args.report, "--report");
 }
 
-nlohmann::json options_json(const MeshArgs& a, const MeshingOptions& resolved,
-                            const MeshTarget& out) {
-  nlohmann::json j = meshing_json(resolved, a.meshing.label_names);
-  j["format"] = extension(out.format);
-  j["quantize"] = a.quantize;
-  j["output"] = out.path.string();
-  j["per_part_files"] = out.folder;
-  j["atlas"] = a.atlas.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.atlas);
-  j["threads"] = a.threads;
-  j["color"] = a.color;
-  return j;
+// A table of the parts for stdout.
+std::string summary_table(const Scene& scene, const std::vector<PartMeasures>& measures) {
+  std::string out;
+  char line[512];
+  std::snprintf(line, sizeof line, "%-28s %-8s %10s %11s %14s %14s %7s %6s\n", "part", "role",
+                "voxels", "triangles", "voxel_mm3", "mesh_mm3", "closed", "shells");
+  out += line;
+  for (size_t p = 0; p < scene.parts.size(); ++p) {
+    const Part& part = scene.parts[p];
+    const MeshMeasures& m = measures[p].mesh;
+    std::snprintf(line, sizeof line, "%-28s %-8s %10lld %11lld %14.1f %14.1f %7s %6lld\n",
+                  part.name.c_str(), std::string(role_name(part.role)).c_str(),
+                  (long long)part.voxels, (long long)m.triangles, part.voxel_volume_mm3,
+                  m.volume_mm3, m.closed() ? "yes" : "NO", (long long)m.shells);
+    out += line;
+  }
+  return out;
 }
 
 int run_mesh(const MeshArgs& args) {
@@ -118,95 +113,35 @@ int run_mesh(const MeshArgs& args) {
   if (!args.atlas.empty()) check_atlas(args, options, note, target);
   const auto threads = limit_threads(args.threads);
 
-  Timings t;
+  MeshTimings t;
   ProgressBar progress(!args.quiet);
   progress.step("reading");
-  auto step = std::chrono::steady_clock::now();
+  const auto step = std::chrono::steady_clock::now();
   Image image = read_input(args.input, args.read);
   t.read = ms_since(step);
 
-  PipelineStats pipeline;
+  const MeshJob job{.request = {.options = options,
+                                .label_names = args.meshing.label_names,
+                                .target = target,
+                                .write = write_options,
+                                .atlas = args.atlas,
+                                .threads = args.threads,
+                                .color = args.color,
+                                .surfaces_note = note},
+                    .report = args.report,
+                    .measure = !args.quiet,
+                    .write_to = target};
+  const MeshJobResult result = run_mesh_job(image, job, progress, t, start);
+  const Scene& scene = result.scene;
+  const PipelineStats& pipeline = result.pipeline;
+  const std::vector<std::string>& outputs = result.outputs;
   const bool report = !args.report.empty();
-  // The positions before smoothing and the meshes before decimation are kept for the report only.
-  const bool moved = options.smooth.method != SmoothMethod::none || options.decimate.active();
-  ExtractedPositions extracted;
-  const Scene scene = build_scene_releasing(image, options, progress, &pipeline,
-                                            report && moved ? &extracted : nullptr);
-  t.components = pipeline.components_ms;
-  t.extract = pipeline.extract_ms;
-  t.smooth = pipeline.smooth_ms;
-  t.decimate = pipeline.decimate_ms;
-  // Part files are named after the parts, known only now; refused before anything is written.
-  if (target.folder && !args.atlas.empty()) {
-    for (const fs::path& p : part_file_paths(scene, target.path, target.format)) {
-      if (same_path(p, args.atlas)) {
-        throw Error(args.atlas + ": --atlas names the file of part " + p.stem().string() +
-                    " in the -o folder; choose another name");
-      }
-    }
-  }
-
-  // The parts' measures are for the summary table and the report only (the topology checks for
-  // the table; quality, volume change and smoothing deviation for the report too). They run
-  // beside the write (writing is mostly serial encoding and the kernel's copy), and not at all
-  // with --quiet and no report. The extracted positions go as soon as they are measured.
-  SceneMeasures measures;
-  tbb::task_group measuring;
-  if (!args.quiet || report) {
-    measuring.run([&] {
-      measures = measure_scene(scene, {.quality = report,
-                                       .contacts = report,
-                                       .extracted = report && moved ? &extracted : nullptr});
-      extracted = {};
-    });
-  }
-  progress.step("writing");
-  step = std::chrono::steady_clock::now();
-  std::vector<std::string> outputs;
-  try {
-    if (target.folder) {
-      for (const fs::path& p : write_parts(scene, target.path, target.format, write_options)) {
-        outputs.push_back(p.string());
-      }
-    } else {
-      write_scene(scene, target.path, target.format, write_options);
-      outputs.push_back(target.path.string());
-    }
-    if (!args.atlas.empty()) {
-      write_atlas(scene, args.atlas);
-      outputs.push_back(args.atlas);
-    }
-  } catch (...) {
-    measuring.wait();
-    throw;
-  }
-  t.write = ms_since(step);
-  step = std::chrono::steady_clock::now();
-  measuring.wait();
-  t.measure = ms_since(step);
   progress.finish();
   // Said once, after the progress bar, when parts touch.
-  const bool say = note && pipeline.parts_touch;
-  if (say && !args.quiet) std::fprintf(stderr, "note: %s\n", note->c_str());
-  if (report) {
-    step = std::chrono::steady_clock::now();
-    nlohmann::json reported_options = options_json(args, options, target);
-    reported_options["surfaces_note"] = say ? nlohmann::json(*note) : nlohmann::json(nullptr);
-    nlohmann::json json = mesh_report(image, reported_options, t, pipeline,
-                                      scene, measures, outputs);
-    t.report = ms_since(step);
-    // The total as the report is written: everything but the file write and the summary below.
-    t.total = ms_since(start);
-    json["timings_ms"]["report"] = t.report;
-    json["timings_ms"]["other"] = t.total - t.steps();
-    json["timings_ms"]["total"] = t.total;
-    AtomicFile file(args.report);
-    file.stream() << json.dump(2) << '\n';
-    file.commit();
-  }
+  if (result.say_surfaces_note && !args.quiet) std::fprintf(stderr, "note: %s\n", note->c_str());
   t.total = ms_since(start);
   if (!args.quiet) {
-    std::printf("%s", summary_table(scene, measures.parts).c_str());
+    std::printf("%s", summary_table(scene, result.measures.parts).c_str());
     std::printf("%zu parts", scene.parts.size());
     if (pipeline.dropped_components > 0) {
       std::printf(" (%lld components below --min-voxels dropped)",

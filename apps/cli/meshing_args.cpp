@@ -52,35 +52,4 @@ MeshingOptions meshing_request(const MeshingArgs& args) {
   return options;
 }
 
-nlohmann::json meshing_json(const MeshingOptions& o, const std::string& label_names) {
-  const SmoothOptions& s = o.smooth;
-  nlohmann::json j = {{"method", method_name(o.method)},
-                      {"surfaces", surfaces_name(o.surfaces)},
-                      {"labels", o.labels},
-                      {"connectivity", o.connectivity},
-                      {"min_voxels", o.min_voxels},
-                      {"normals", normals_name(o.normals)},
-                      {"presmooth_mm", o.volume_sigma_mm},
-                      {"smooth",
-                       {{"method", smooth_method_name(s.method)},
-                        {"iterations", s.iterations},
-                        {"lambda", s.lambda},
-                        {"alpha", s.alpha},
-                        {"beta", s.beta},
-                        {"taubin_lambda", s.taubin_lambda},
-                        {"taubin_mu", s.taubin_mu},
-                        {"pass_band", s.pass_band},
-                        {"sinc_unit_gain", s.sinc_unit_gain},
-                        {"preserve_volume", s.preserve_volume}}},
-                      {"dc_svd_eps", o.dc_svd_eps},
-                      {"dc_tolerance_mm", o.dc_tolerance_mm},
-                      {"decimate",
-                       {{"error_mm", o.decimate.error_mm},
-                        {"max_triangles", o.decimate.max_triangles},
-                        {"max_triangles_per_part", o.decimate.max_triangles_per_part}}}};
-  j["iso"] = o.iso ? nlohmann::json(*o.iso) : nlohmann::json(nullptr);
-  j["label_names"] = label_names.empty() ? nlohmann::json(nullptr) : nlohmann::json(label_names);
-  return j;
-}
-
 }  // namespace segmesh::cli

@@ -6,7 +6,6 @@
 
 #include <CLI/CLI.hpp>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -30,9 +29,5 @@ void add_meshing_options(CLI::App* cmd, MeshingArgs& args);
 MeshingOptions meshing_options(const MeshingArgs& args);
 // The options given, not resolved yet (for what depends on the request itself: surfaces_note).
 MeshingOptions meshing_request(const MeshingArgs& args);
-
-// Resolved options as the JSON report records them (method, labels, ..., smooth, dc_*);
-// `label_names` is the file they came from ("" for none).
-nlohmann::json meshing_json(const MeshingOptions& resolved, const std::string& label_names);
 
 }  // namespace segmesh::cli

@@ -14,6 +14,13 @@ namespace segmesh {
 
 namespace fs = std::filesystem;
 
+bool same_path(const fs::path& a, const fs::path& b) {
+  std::error_code e1, e2;
+  const fs::path ca = fs::weakly_canonical(fs::absolute(a), e1);
+  const fs::path cb = fs::weakly_canonical(fs::absolute(b), e2);
+  return e1 || e2 ? a == b : ca == cb;
+}
+
 void refuse_to_overwrite(const fs::path& output, const fs::path& input) {
   std::error_code ec;
   if (fs::exists(output, ec) && fs::equivalent(output, input, ec)) {

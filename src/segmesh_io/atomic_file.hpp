@@ -76,6 +76,10 @@ std::string write_failure(const std::filesystem::path& path, int error);
 // (access(2): permission bits, a read-only file system).
 void require_parent_folder(const std::filesystem::path& path);
 
+// Whether two paths name the same file or folder, however spelled ("a.ply", "./a.ply"); neither
+// needs to exist.
+bool same_path(const std::filesystem::path& a, const std::filesystem::path& b);
+
 // Throws segmesh::Error("<output>: is the input; ...") when `output` exists and is the same file as
 // `input` (also through a link or another spelling of the path).
 void refuse_to_overwrite(const std::filesystem::path& output, const std::filesystem::path& input);

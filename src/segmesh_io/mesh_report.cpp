@@ -1,18 +1,70 @@
-#include "mesh_report.hpp"
+#include "segmesh_io/mesh_report.hpp"
 
 #include <algorithm>
-#include <cstdio>
+#include <nlohmann/json.hpp>
 
-#include "cli_common.hpp"
+#include "segmesh_io/atomic_file.hpp"
 
-namespace segmesh::cli {
+namespace segmesh {
 
-nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, const Timings& t,
+namespace {
+
+// Resolved options as the report records them (method, labels, ..., smooth, dc_*);
+// `label_names` is the file they came from ("" for none).
+nlohmann::json meshing_json(const MeshingOptions& o, const std::string& label_names) {
+  const SmoothOptions& s = o.smooth;
+  nlohmann::json j = {{"method", method_name(o.method)},
+                      {"surfaces", surfaces_name(o.surfaces)},
+                      {"labels", o.labels},
+                      {"connectivity", o.connectivity},
+                      {"min_voxels", o.min_voxels},
+                      {"normals", normals_name(o.normals)},
+                      {"presmooth_mm", o.volume_sigma_mm},
+                      {"smooth",
+                       {{"method", smooth_method_name(s.method)},
+                        {"iterations", s.iterations},
+                        {"lambda", s.lambda},
+                        {"alpha", s.alpha},
+                        {"beta", s.beta},
+                        {"taubin_lambda", s.taubin_lambda},
+                        {"taubin_mu", s.taubin_mu},
+                        {"pass_band", s.pass_band},
+                        {"sinc_unit_gain", s.sinc_unit_gain},
+                        {"preserve_volume", s.preserve_volume}}},
+                      {"dc_svd_eps", o.dc_svd_eps},
+                      {"dc_tolerance_mm", o.dc_tolerance_mm},
+                      {"decimate",
+                       {{"error_mm", o.decimate.error_mm},
+                        {"max_triangles", o.decimate.max_triangles},
+                        {"max_triangles_per_part", o.decimate.max_triangles_per_part}}}};
+  j["iso"] = o.iso ? nlohmann::json(*o.iso) : nlohmann::json(nullptr);
+  j["label_names"] = label_names.empty() ? nlohmann::json(nullptr) : nlohmann::json(label_names);
+  return j;
+}
+
+nlohmann::json options_json(const ReportedRequest& r) {
+  nlohmann::json j = meshing_json(r.options, r.label_names);
+  j["format"] = extension(r.target.format);
+  j["quantize"] = r.write.quantize;
+  j["output"] = r.target.path.string();
+  j["per_part_files"] = r.target.folder;
+  j["atlas"] = r.atlas.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.atlas);
+  j["threads"] = r.threads;
+  j["color"] = r.color;
+  j["surfaces_note"] = r.surfaces_note ? nlohmann::json(*r.surfaces_note) : nlohmann::json(nullptr);
+  return j;
+}
+
+nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, const MeshTimings& t,
                            const PipelineStats& stats, const Scene& scene,
                            const SceneMeasures& scene_measures,
                            const std::vector<std::string>& outputs) {
   const std::vector<PartMeasures>& measures = scene_measures.parts;
-  nlohmann::json input = grid_json(image.grid());
+  const Grid& grid = image.grid();
+  nlohmann::json input = {{"dims", grid.dims},
+                          {"spacing", grid.spacing},
+                          {"origin", grid.origin},
+                          {"direction", grid.direction}};
   input["path"] = image.path;
   input["type"] = image.voxel_type;
   nlohmann::json parts = nlohmann::json::array();
@@ -113,22 +165,24 @@ nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, co
              scene.conforming ? nlohmann::json(max_gap) : nlohmann::json(nullptr)}}}};
 }
 
-std::string summary_table(const Scene& scene, const std::vector<PartMeasures>& measures) {
-  std::string out;
-  char line[512];
-  std::snprintf(line, sizeof line, "%-28s %-8s %10s %11s %14s %14s %7s %6s\n", "part", "role",
-                "voxels", "triangles", "voxel_mm3", "mesh_mm3", "closed", "shells");
-  out += line;
-  for (size_t p = 0; p < scene.parts.size(); ++p) {
-    const Part& part = scene.parts[p];
-    const MeshMeasures& m = measures[p].mesh;
-    std::snprintf(line, sizeof line, "%-28s %-8s %10lld %11lld %14.1f %14.1f %7s %6lld\n",
-                  part.name.c_str(), std::string(role_name(part.role)).c_str(),
-                  (long long)part.voxels, (long long)m.triangles, part.voxel_volume_mm3,
-                  m.volume_mm3, m.closed() ? "yes" : "NO", (long long)m.shells);
-    out += line;
-  }
-  return out;
+}  // namespace
+
+void write_mesh_report(const std::filesystem::path& path, const Image& image,
+                       const ReportedRequest& request, MeshTimings& t,
+                       std::chrono::steady_clock::time_point start, const PipelineStats& stats,
+                       const Scene& scene, const SceneMeasures& measures,
+                       const std::vector<std::string>& outputs) {
+  const auto step = std::chrono::steady_clock::now();
+  nlohmann::json json = mesh_report(image, options_json(request), t, stats, scene, measures, outputs);
+  t.report = ms_since(step);
+  // The total as the report is written: everything but the file write and what follows it.
+  t.total = ms_since(start);
+  json["timings_ms"]["report"] = t.report;
+  json["timings_ms"]["other"] = t.total - t.steps();
+  json["timings_ms"]["total"] = t.total;
+  AtomicFile file(path);
+  file.stream() << json.dump(2) << '\n';
+  file.commit();
 }
 
-}  // namespace segmesh::cli
+}  // namespace segmesh
