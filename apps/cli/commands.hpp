@@ -12,6 +12,7 @@ struct Subcommand {
   std::function<int()> run;    // returns the exit code
 };
 
+Subcommand add_batch_command(CLI::App& app);
 Subcommand add_info_command(CLI::App& app);
 Subcommand add_mesh_command(CLI::App& app);
 Subcommand add_phantom_command(CLI::App& app);

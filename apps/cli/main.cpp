@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   const segmesh::cli::Subcommand commands[] = {
       segmesh::cli::add_info_command(app),
       segmesh::cli::add_mesh_command(app),
+      segmesh::cli::add_batch_command(app),
       segmesh::cli::add_phantom_command(app),
       segmesh::cli::add_quality_command(app),
       segmesh::cli::add_render_command(app),

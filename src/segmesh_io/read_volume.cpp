@@ -23,19 +23,21 @@ namespace {
 
 enum class Format { nifti, nrrd, metaimage, mrc, dicom, unknown };
 
+// The extensions read_volume reads, a longer one before any it ends with.
+struct Suffix {
+  const char* text;
+  Format format;
+};
+constexpr Suffix kSuffixes[] = {{".nii.gz", Format::nifti},    {".nii", Format::nifti},
+                                {".seg.nrrd", Format::nrrd},   {".nrrd", Format::nrrd},
+                                {".nhdr", Format::nrrd},       {".mha", Format::metaimage},
+                                {".mhd", Format::metaimage},   {".mrc", Format::mrc},
+                                {".map", Format::mrc},         {".rec", Format::mrc}};
+
 Format format_of(const fs::path& path) {
   const std::string name = lower(path.filename().string());
-  for (const char* suffix : {".nii", ".nii.gz"}) {
-    if (name.ends_with(suffix)) return Format::nifti;
-  }
-  for (const char* suffix : {".nrrd", ".nhdr"}) {  // .seg.nrrd included
-    if (name.ends_with(suffix)) return Format::nrrd;
-  }
-  for (const char* suffix : {".mha", ".mhd"}) {
-    if (name.ends_with(suffix)) return Format::metaimage;
-  }
-  for (const char* suffix : {".mrc", ".map", ".rec"}) {
-    if (name.ends_with(suffix)) return Format::mrc;
+  for (const Suffix& s : kSuffixes) {
+    if (name.ends_with(s.text)) return s.format;
   }
   if (name.ends_with(".dcm")) {
     throw file_error(path, "is a single DICOM file; give the folder that holds the whole series");
@@ -44,6 +46,14 @@ Format format_of(const fs::path& path) {
 }
 
 }  // namespace
+
+std::string volume_extension(const fs::path& path) {
+  const std::string name = lower(path.filename().string());
+  for (const Suffix& s : kSuffixes) {
+    if (name.ends_with(s.text) && name.size() > std::string_view(s.text).size()) return s.text;
+  }
+  return {};
+}
 
 Image read_volume(const fs::path& path, const ReadOptions& options) {
   std::error_code ec;

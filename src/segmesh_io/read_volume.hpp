@@ -60,6 +60,10 @@ struct ReadOptions {
 // Reads the volume at `path` (a file, or a folder holding a DICOM series).
 Image read_volume(const std::filesystem::path& path, const ReadOptions& options = {});
 
+// The volume extension `path`'s file name ends with, in lower case (".nii.gz", ".seg.nrrd",
+// ".nrrd", ".mha", ...); empty when it names none of the formats read_volume reads by extension.
+std::string volume_extension(const std::filesystem::path& path);
+
 // The checks read_volume makes on what a file claims, for a volume that comes from elsewhere (the
 // Python package's arrays): 3-D (more axes only if every extra one has size 1), at most
 // options.max_voxels voxels, positive finite spacing, a finite origin and an orthonormal

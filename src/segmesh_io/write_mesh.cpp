@@ -85,26 +85,12 @@ void commit_all(Files& files) {
   for (auto& f : files) f->commit();
 }
 
-std::string file_stem_for(const std::string& part_name) {
-  std::string s;
-  for (unsigned char c : part_name) {
-    s.push_back(std::isalnum(c) || c == '-' || c == '_' || c == '.' ? static_cast<char>(c) : '_');
-  }
-  s.erase(0, s.find_first_not_of('.') == std::string::npos ? s.size() : s.find_first_not_of('.'));
-  if (s.size() > 100) s.resize(100);
-  while (!s.empty() && s.back() == '.') s.pop_back();
-  return s.empty() ? "part" : s;
-}
-
 // The file of every part in `parts`, in order, in `dir`.
 std::vector<fs::path> file_paths(const PartList& parts, const fs::path& dir, MeshFormat format) {
   std::vector<fs::path> paths;
   std::set<std::string> used;
   for (const Part* part : parts) {
-    const std::string base = file_stem_for(part->name);
-    std::string stem = base;
-    for (int n = 2; used.count(lower(stem)); ++n) stem = base + "_" + std::to_string(n);
-    used.insert(lower(stem));
+    const std::string stem = unique_stem(file_stem_for(part->name, "part"), used);
     paths.push_back(dir / (stem + "." + std::string(extension(format))));
   }
   return paths;

@@ -23,6 +23,26 @@ std::string lower(std::string text) {
   return text;
 }
 
+std::string file_stem_for(std::string_view name, std::string_view empty_name) {
+  std::string s;
+  for (const char c : name) {
+    const bool keep = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                      c == '-' || c == '_' || c == '.';
+    s.push_back(keep ? c : '_');
+  }
+  s.erase(0, s.find_first_not_of('.') == std::string::npos ? s.size() : s.find_first_not_of('.'));
+  if (s.size() > 100) s.resize(100);
+  while (!s.empty() && s.back() == '.') s.pop_back();
+  return s.empty() ? std::string(empty_name) : s;
+}
+
+std::string unique_stem(const std::string& stem, std::set<std::string>& used) {
+  std::string out = stem;
+  for (int n = 2; used.count(lower(out)); ++n) out = stem + "_" + std::to_string(n);
+  used.insert(lower(out));
+  return out;
+}
+
 std::string_view next_word(std::string_view& s) {
   s = trim(s, kWhiteSpace);
   const size_t n = std::min(s.find_first_of(kWhiteSpace), s.size());

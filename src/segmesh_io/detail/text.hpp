@@ -11,6 +11,7 @@
 #pragma once
 
 #include <charconv>
+#include <set>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -33,6 +34,15 @@ std::string lower(std::string text);
 // The first word of `s` (a run of non-white-space, kWhiteSpace), taking it and the white space
 // before it off `s` (which is also trimmed at its end); empty when `s` holds no word.
 std::string_view next_word(std::string_view& s);
+
+// `name` as a file name's stem: characters other than ASCII letters, digits, '-', '_' and '.'
+// become '_', leading and trailing dots are dropped, at most 100 characters; `empty_name` when
+// nothing is left.
+std::string file_stem_for(std::string_view name, std::string_view empty_name);
+
+// `stem`, or `stem_2`, `stem_3`, ... the first not in `used` (compared in lower case, for file
+// systems that ignore case); adds its lower case to `used`.
+std::string unique_stem(const std::string& stem, std::set<std::string>& used);
 
 // Parses the whole of `s` as a T (a leading '+' allowed); false, with `out` unspecified, when `s`
 // is empty or holds anything else.

@@ -1,0 +1,199 @@
+#include "segmesh_io/cohort_inputs.hpp"
+
+#include <glob.h>
+
+#include <algorithm>
+#include <fstream>
+#include <set>
+#include <system_error>
+
+#include "segmesh/error.hpp"
+#include "segmesh_io/case_runner.hpp"
+#include "segmesh_io/detail/text.hpp"
+#include "segmesh_io/label_names.hpp"
+#include "segmesh_io/read_volume.hpp"
+
+namespace segmesh {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+bool is_manifest(const fs::path& path) {
+  const std::string ext = lower(path.extension().string());
+  return ext == ".csv" || ext == ".tsv";
+}
+
+// The fields of one manifest line: tab-separated, or comma-separated with RFC 4180 quotes
+// ("1,2" for a list of labels). Returns false for an unterminated quote.
+bool split_fields(std::string_view line, char separator, std::vector<std::string>& fields) {
+  fields.assign(1, {});
+  bool quoted = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c != '"') {
+        fields.back() += c;
+      } else if (i + 1 < line.size() && line[i + 1] == '"') {
+        fields.back() += '"';
+        ++i;
+      } else {
+        quoted = false;
+      }
+    } else if (c == '"' && separator == ',') {
+      quoted = true;
+    } else if (c == separator) {
+      fields.emplace_back();
+    } else {
+      fields.back() += c;
+    }
+  }
+  for (std::string& f : fields) f = std::string(trim(f));
+  return !quoted;
+}
+
+// A column's option name: "min_voxels" -> "min-voxels"; empty for "path" and "case".
+std::string column_option(const fs::path& manifest, const std::string& column) {
+  std::string name = lower(column);
+  std::replace(name.begin(), name.end(), '_', '-');
+  if (name == "path" || name == "case" || name == "label-names") return name;
+  if (!find_meshing_option(name)) {
+    throw Error(manifest.string() + ": unknown column \"" + column +
+                "\"; expected path, case, label_names or an option of segmesh mesh (smooth, "
+                "iterations, labels, ...)");
+  }
+  return name;
+}
+
+void read_manifest(const fs::path& manifest, std::vector<CohortCase>& cases) {
+  std::ifstream in(manifest);
+  if (!in) throw Error(manifest.string() + ": cannot open the manifest");
+  const char separator = lower(manifest.extension().string()) == ".tsv" ? '\t' : ',';
+  std::vector<std::string> columns, fields;
+  int line_number = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++line_number;
+    const std::string where = manifest.string() + ":" + std::to_string(line_number);
+    if (trim(line).empty() || trim(line).front() == '#') continue;
+    if (!split_fields(line, separator, fields)) throw Error(where + ": a quote is not closed");
+    if (columns.empty()) {
+      for (const std::string& f : fields) columns.push_back(column_option(manifest, f));
+      if (std::find(columns.begin(), columns.end(), "path") == columns.end()) {
+        throw Error(manifest.string() + ": the first row must name the columns, one of them path");
+      }
+      continue;
+    }
+    if (fields.size() > columns.size()) {
+      throw Error(where + ": " + std::to_string(fields.size()) + " fields but " +
+                  std::to_string(columns.size()) + " columns");
+    }
+    CohortCase c{.origin = where, .manifest_folder = manifest.parent_path()};
+    for (size_t i = 0; i < fields.size(); ++i) {
+      if (fields[i].empty()) continue;
+      if (columns[i] == "path") {
+        const fs::path p = fields[i];
+        c.input = p.is_absolute() ? p : manifest.parent_path() / p;
+      } else if (columns[i] == "case") {
+        c.name = fields[i];
+      } else {
+        c.options.emplace_back(columns[i], fields[i]);
+      }
+    }
+    if (c.input.empty()) throw Error(where + ": the path is empty");
+    cases.push_back(std::move(c));
+  }
+  if (columns.empty()) throw Error(manifest.string() + ": the manifest is empty");
+}
+
+// A folder's cases (see the header).
+void expand_folder(const fs::path& folder, std::vector<CohortCase>& cases) {
+  std::vector<fs::path> volumes, series;
+  bool has_subfolders = false;
+  for (const fs::directory_entry& e : fs::directory_iterator(folder)) {
+    if (e.is_directory()) {
+      has_subfolders = true;
+      bool files = false, volume_files = false;
+      for (const fs::directory_entry& f : fs::directory_iterator(e.path())) {
+        if (!f.is_regular_file()) continue;
+        files = true;
+        volume_files = volume_files || !volume_extension(f.path()).empty();
+      }
+      if (files && !volume_files) series.push_back(e.path());
+    } else if (!volume_extension(e.path()).empty()) {
+      volumes.push_back(e.path());
+    }
+  }
+  if (volumes.empty() && series.empty() && !has_subfolders) volumes.push_back(folder);
+  volumes.insert(volumes.end(), series.begin(), series.end());
+  if (volumes.empty()) throw Error(folder.string() + ": holds no volume file and no DICOM series");
+  std::sort(volumes.begin(), volumes.end());
+  for (const fs::path& p : volumes) cases.push_back({.input = p});
+}
+
+void expand_glob(const std::string& pattern, std::vector<CohortCase>& cases) {
+  glob_t matches{};
+  const int rc = ::glob(pattern.c_str(), 0, nullptr, &matches);
+  std::vector<fs::path> paths(matches.gl_pathv, matches.gl_pathv + matches.gl_pathc);
+  ::globfree(&matches);
+  if (rc != 0 || paths.empty()) throw Error(pattern + ": matches no file");
+  std::sort(paths.begin(), paths.end());
+  for (const fs::path& p : paths) cases.push_back({.input = p});
+}
+
+}  // namespace
+
+std::vector<CohortCase> expand_cohort_inputs(const std::vector<std::string>& inputs) {
+  std::vector<CohortCase> cases;
+  for (const std::string& input : inputs) {
+    std::error_code ec;
+    const fs::file_status status = fs::status(input, ec);
+    if (fs::is_directory(status)) {
+      expand_folder(input, cases);
+    } else if (fs::is_regular_file(status) && is_manifest(input)) {
+      read_manifest(input, cases);
+    } else if (!fs::exists(status) && input.find_first_of("*?[") != std::string::npos) {
+      expand_glob(input, cases);
+    } else {
+      cases.push_back({.input = input});
+    }
+  }
+  std::set<std::string> used;
+  for (CohortCase& c : cases) {
+    c.name = unique_stem(c.name.empty() ? case_name(c.input) : file_stem_for(c.name, "case"), used);
+  }
+  return cases;
+}
+
+MeshingOptions case_options(const MeshingOptions& defaults, const CohortCase& c,
+                            std::string& label_names_file) {
+  MeshingOptions options = defaults;
+  try {
+    for (const auto& [name, text] : c.options) {
+      if (name == "label-names") {
+        const fs::path p = text;
+        label_names_file = (p.is_absolute() ? p : c.manifest_folder / p).string();
+        options.label_names = read_label_names(label_names_file);
+      } else {
+        find_meshing_option(name)->set(options, text);
+      }
+    }
+    resolve_meshing_options(options);
+  } catch (const Error& e) {
+    throw Error(c.origin.empty() ? std::string(e.what()) : c.origin + ": " + e.what());
+  }
+  return options;
+}
+
+Shard parse_shard(std::string_view text) {
+  Shard s;
+  const size_t slash = text.find('/');
+  if (slash == std::string_view::npos || !parse_number(text.substr(0, slash), s.index) ||
+      !parse_number(text.substr(slash + 1), s.count) || s.count < 1 || s.index < 1 ||
+      s.index > s.count) {
+    throw Error("--shard must be I/N with 1 <= I <= N, e.g. 2/8 (got \"" + std::string(text) +
+                "\")");
+  }
+  return s;
+}
+
+}  // namespace segmesh

@@ -1,0 +1,65 @@
+// The cases of a cohort run (`segmesh batch INPUTS...`) from what the user names, in order:
+//
+//   a volume file      one case (also when it is missing: the case fails, the rest go on)
+//   a folder           holding volume files (volume_extension): each of them, sorted by name,
+//                      and each sub-folder holding files but no volume file, as a DICOM series;
+//                      holding no volume file and no sub-folder: the folder itself, a DICOM series
+//   a glob             "scans/*/seg.nii.gz" (quoted, so the shell leaves it): the matches, sorted
+//   a manifest         a .csv or .tsv file with a header row: a `path` column (relative paths
+//                      are relative to the manifest's folder), optionally a `case` column (the
+//                      case's name) and columns named like the meshing options of `segmesh mesh`
+//                      (`smooth`, `iterations`, `labels`, `min_voxels`, `label_names`, ...;
+//                      '_' or '-'), whose non-empty cells are that case's options
+//
+// Case names come from case_name (the file name without its extension) or the manifest's `case`
+// column, made unique in order ("seg", "seg_2", ...), compared in lower case. They are given to
+// the whole list before any shard is taken, so every shard names a case the same way.
+//
+// Errors: segmesh::Error in one line, naming the argument or "<manifest>:<line>": a glob or
+// folder that matches no volume, a manifest without a path column, with an unknown column, a
+// row with too many fields or an empty path. A per-case option that does not parse or is out of
+// range is reported by case_options.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "segmesh/meshing_options.hpp"
+
+namespace segmesh {
+
+struct CohortCase {
+  std::filesystem::path input;
+  std::string name;
+  // Manifest cells by option name ("iterations", "label-names"), in column order.
+  std::vector<std::pair<std::string, std::string>> options;
+  std::string origin;  // "<manifest>:<line>" for a manifest row, else empty
+  std::filesystem::path manifest_folder;  // what a relative label-names cell is relative to
+};
+
+std::vector<CohortCase> expand_cohort_inputs(const std::vector<std::string>& inputs);
+
+// `defaults` (a request, e.g. the command line's) with the case's own options set through the
+// options layer (meshing_option_specs), still a request (the runner resolves it; surfaces_note
+// needs the request). Resolved once here, so a bad cell is refused before any case runs: segmesh::Error "<manifest>:<line>: --smooth must be ...". A `label-names` cell is read
+// (relative to the manifest's folder) and its path stored in `label_names_file`.
+MeshingOptions case_options(const MeshingOptions& defaults, const CohortCase& c,
+                            std::string& label_names_file);
+
+// `--shard I/N`: this run takes the cases whose index (0-based, in input order) modulo N is
+// I - 1, so shards 1..N together take every case exactly once.
+struct Shard {
+  int index = 1;
+  int count = 1;
+  bool takes(size_t case_index) const {
+    return static_cast<int>(case_index % static_cast<size_t>(count)) == index - 1;
+  }
+};
+// Parses "I/N" (1 <= I <= N); throws segmesh::Error naming --shard otherwise.
+Shard parse_shard(std::string_view text);
+
+}  // namespace segmesh
