@@ -44,6 +44,7 @@ struct BatchArgs {
 
 // Every case this run takes, checked: its options resolved, before OUT is touched.
 struct Plan {
+  fs::path out;  // OUT without a trailing "/"
   std::vector<CaseRequest> cases;
   Shard shard;
   size_t total = 0;  // cases in the whole cohort
@@ -51,6 +52,8 @@ struct Plan {
 
 Plan plan_batch(const BatchArgs& a) {
   Plan plan;
+  plan.out = fs::path(a.output).lexically_normal();
+  if (!plan.out.has_filename()) plan.out = plan.out.parent_path();  // "out/" -> "out"
   if (!a.shard.empty()) plan.shard = parse_shard(a.shard);
   const std::optional<MeshFormat> format = parse_mesh_format(a.format);
   if (!format) throw Error("--format must be stl, ply, obj or glb (got \"" + a.format + "\")");
@@ -70,7 +73,7 @@ Plan plan_batch(const BatchArgs& a) {
     if (!plan.shard.takes(i)) continue;
     CaseRequest q{.input = cohort[i].input,
                   .name = cohort[i].name,
-                  .out_dir = a.output,
+                  .out_dir = plan.out,
                   .label_names = a.meshing.label_names,
                   .format = *format,
                   .per_part = a.per_part,
@@ -87,22 +90,21 @@ Plan plan_batch(const BatchArgs& a) {
     };
     plan.cases.push_back(std::move(q));
   }
-  if (fs::exists(a.output) && !fs::is_directory(a.output)) {
+  if (fs::exists(plan.out) && !fs::is_directory(plan.out)) {
     throw Error(a.output + ": exists and is not a folder; -o names the output folder");
   }
-  if (!fs::exists(a.output)) require_parent_folder(fs::path(a.output).lexically_normal());
+  if (!fs::exists(plan.out)) require_parent_folder(plan.out);
   return plan;
 }
 
 int run_batch(const BatchArgs& a) {
   const Plan plan = plan_batch(a);
   std::error_code ec;
-  if (!fs::create_directories(a.output, ec) && ec) {
+  if (!fs::create_directories(plan.out, ec) && ec) {
     throw Error(a.output + ": cannot create the folder (" + ec.message() + ")");
   }
   const auto threads = limit_threads(a.threads);
-  const fs::path summary =
-      fs::path(a.output) / summary_file_name(plan.shard.index, plan.shard.count);
+  const fs::path summary = plan.out / summary_file_name(plan.shard.index, plan.shard.count);
   std::vector<CaseResult> rows;
   for (const CaseRequest& q : plan.cases) rows.push_back({.name = q.name, .input = q.input.string()});
   write_case_summary(summary, rows);

@@ -323,13 +323,14 @@ TEST(BatchCli, BadArgumentsWriteNothingAndGlobsExpand) {
     EXPECT_FALSE(fs::exists(out));
   }
   const auto globbed = run_segmesh("batch '" + (dir / "*.nrrd").string() + "' -o " +
-                                   shell_quoted(out) + " --quiet --format ply");
+                                   shell_quoted(out.string() + "/") + " --quiet --format ply");
   EXPECT_EQ(globbed.exit_code, 0) << globbed.err;
   const std::vector<Row> rows = read_summary(out / "summary.csv");
   ASSERT_EQ(rows.size(), 2u);
   EXPECT_EQ(rows[0].at("case"), "one");
   EXPECT_EQ(rows[1].at("case"), "two");
   EXPECT_TRUE(fs::exists(out / "one" / "scene.ply"));
+  EXPECT_EQ(read_json(out / "one" / "report.json")["outputs"][0], (out / "one" / "scene.ply").string());
   const auto help = run_segmesh("batch --help");
   EXPECT_EQ(help.exit_code, 0);
   for (const char* option : {"--shard", "--force", "--allow-external-data", "--labels", "--quiet"}) {
