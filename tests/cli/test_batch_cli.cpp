@@ -137,7 +137,7 @@ TEST(BatchCli, FailedCasesAreIsolatedAndASecondRunSkipsFinishedOnes) {
   EXPECT_EQ(second.exit_code, 1) << second.err;  // missing is still missing
   rows = read_summary(out / "summary.csv");
   ASSERT_EQ(rows.size(), 6u);
-  for (const std::string& name : {"heart_seg", "spine_seg", "liver_spine_seg", "example_seg"}) {
+  for (const std::string name : {"heart_seg", "spine_seg", "liver_spine_seg", "example_seg"}) {
     EXPECT_EQ(row_of(rows, name).at("status"), "skipped") << name;
     EXPECT_EQ(row_of(rows, name).at("triangles"), triangles[name]) << name;
   }
