@@ -67,7 +67,7 @@ Plan plan_batch(const BatchArgs& a) {
   limit_threads(a.threads);  // checks the value
   const MeshingOptions defaults = meshing_request(a.meshing);
   resolve_meshing_options(defaults);
-  const std::vector<CohortCase> cohort = expand_cohort_inputs(a.inputs);
+  const std::vector<CohortCase> cohort = expand_cohort_inputs(a.inputs, plan.out);
   plan.total = cohort.size();
   for (size_t i = 0; i < cohort.size(); ++i) {
     if (!plan.shard.takes(i)) continue;

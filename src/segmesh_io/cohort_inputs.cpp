@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <fstream>
+#include <map>
+#include <string_view>
 #include <set>
 #include <system_error>
 
@@ -105,29 +107,104 @@ void read_manifest(const fs::path& manifest, std::vector<CohortCase>& cases) {
   if (columns.empty()) throw Error(manifest.string() + ": the manifest is empty");
 }
 
-// A folder's cases (see the header).
-void expand_folder(const fs::path& folder, std::vector<CohortCase>& cases) {
-  std::vector<fs::path> volumes, series;
-  bool has_subfolders = false;
-  for (const fs::directory_entry& e : fs::directory_iterator(folder)) {
-    if (e.is_directory()) {
-      has_subfolders = true;
-      bool files = false, volume_files = false;
-      for (const fs::directory_entry& f : fs::directory_iterator(e.path())) {
-        if (!f.is_regular_file()) continue;
-        files = true;
-        volume_files = volume_files || !volume_extension(f.path()).empty();
+// Whether `file` starts like a DICOM file: "DICM" after the 128-byte preamble (Part 10).
+bool looks_like_dicom(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  char magic[132] = {};
+  return in.read(magic, sizeof magic) && std::string_view(magic + 128, 4) == "DICM";
+}
+
+bool hidden(const fs::path& path) { return path.filename().string().starts_with("."); }
+
+// A folder's cases (see the header): the whole tree below it, hidden entries and `exclude` (the
+// output folder, which may lie inside) left out.
+void expand_folder(const fs::path& folder, const fs::path& exclude, std::vector<CohortCase>& cases) {
+  std::vector<fs::path> found;
+  std::error_code ec;
+  const fs::path skip = exclude.empty() ? fs::path{} : fs::weakly_canonical(exclude, ec);
+  // Folders to look in, depth first; a folder holding no volume file, no sub-folder and a file
+  // that starts like DICOM is a series.
+  std::vector<fs::path> stack{folder};
+  while (!stack.empty()) {
+    const fs::path here = stack.back();
+    stack.pop_back();
+    std::vector<fs::path> files;
+    bool subfolders = false, volume_files = false;
+    for (const fs::directory_entry& e : fs::directory_iterator(here, ec)) {
+      if (hidden(e.path())) continue;
+      if (e.is_directory()) {
+        if (!skip.empty() && fs::weakly_canonical(e.path(), ec) == skip) continue;
+        subfolders = true;
+        stack.push_back(e.path());
+      } else if (e.is_regular_file()) {
+        files.push_back(e.path());
+        if (!volume_extension(e.path()).empty()) {
+          volume_files = true;
+          found.push_back(e.path());
+        }
       }
-      if (files && !volume_files) series.push_back(e.path());
-    } else if (!volume_extension(e.path()).empty()) {
-      volumes.push_back(e.path());
+    }
+    if (!volume_files && !subfolders && !files.empty()) {
+      std::sort(files.begin(), files.end());
+      // The top folder itself is a series as `segmesh mesh` reads it, whatever its files.
+      if (here == folder || looks_like_dicom(files.front())) found.push_back(here);
     }
   }
-  if (volumes.empty() && series.empty() && !has_subfolders) volumes.push_back(folder);
-  volumes.insert(volumes.end(), series.begin(), series.end());
-  if (volumes.empty()) throw Error(folder.string() + ": holds no volume file and no DICOM series");
-  std::sort(volumes.begin(), volumes.end());
-  for (const fs::path& p : volumes) cases.push_back({.input = p});
+  if (found.empty()) {
+    throw Error(folder.string() + ": holds no volume file and no DICOM series, in it or below");
+  }
+  std::sort(found.begin(), found.end());
+  for (const fs::path& p : found) cases.push_back({.input = p});
+}
+
+// Case names: the file names without their volume extension; where several cases would share
+// one, the names of the folders above are put in front, one more at a time, until they differ
+// (s0001/ct.nii.gz and s0002/ct.nii.gz are s0001_ct and s0002_ct); what still collides gets
+// _2, _3, ... (unique_stem). A manifest's `case` column is taken as given.
+void name_cases(std::vector<CohortCase>& cases) {
+  const size_t n = cases.size();
+  std::vector<int> depth(n, 0);
+  auto name_at = [&](size_t i) {
+    const CohortCase& c = cases[i];
+    if (!c.name.empty()) return file_stem_for(c.name, "case");
+    std::string name = case_name(c.input);
+    fs::path up = c.input.lexically_normal();
+    if (up.filename().empty()) up = up.parent_path();  // "dicom/"
+    up = up.parent_path();
+    for (int d = 0; d < depth[i] && !up.filename().empty(); ++d, up = up.parent_path()) {
+      const std::string folder = up.filename().string();
+      if (folder == "." || folder == "..") break;
+      name = folder + "_" + name;
+    }
+    return file_stem_for(name, "case");
+  };
+  // Each group of cases sharing a name goes as many folders up as it takes for its names to
+  // differ more (a/x/seg and b/x/seg: two), and not at all when they never do (one file twice).
+  constexpr int kMaxDepth = 4;
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::map<std::string, std::vector<size_t>> by_name;
+    for (size_t i = 0; i < n; ++i) by_name[lower(name_at(i))].push_back(i);
+    for (const auto& [name, group] : by_name) {
+      if (group.size() < 2 || !cases[group[0]].name.empty()) continue;
+      const int from = depth[group[0]];
+      for (int d = from + 1; d <= kMaxDepth; ++d) {
+        std::set<std::string> distinct;
+        for (size_t i : group) {
+          depth[i] = d;
+          distinct.insert(lower(name_at(i)));
+        }
+        if (distinct.size() > 1) {
+          changed = true;
+          break;
+        }
+        if (d == kMaxDepth)
+          for (size_t i : group) depth[i] = from;
+      }
+    }
+  }
+  std::set<std::string> used;
+  for (size_t i = 0; i < n; ++i) cases[i].name = unique_stem(name_at(i), used);
 }
 
 void expand_glob(const std::string& pattern, std::vector<CohortCase>& cases) {
@@ -142,13 +219,14 @@ void expand_glob(const std::string& pattern, std::vector<CohortCase>& cases) {
 
 }  // namespace
 
-std::vector<CohortCase> expand_cohort_inputs(const std::vector<std::string>& inputs) {
+std::vector<CohortCase> expand_cohort_inputs(const std::vector<std::string>& inputs,
+                                             const std::filesystem::path& exclude) {
   std::vector<CohortCase> cases;
   for (const std::string& input : inputs) {
     std::error_code ec;
     const fs::file_status status = fs::status(input, ec);
     if (fs::is_directory(status)) {
-      expand_folder(input, cases);
+      expand_folder(input, exclude, cases);
     } else if (fs::is_regular_file(status) && is_manifest(input)) {
       read_manifest(input, cases);
     } else if (!fs::exists(status) && input.find_first_of("*?[") != std::string::npos) {
@@ -157,10 +235,7 @@ std::vector<CohortCase> expand_cohort_inputs(const std::vector<std::string>& inp
       cases.push_back({.input = input});
     }
   }
-  std::set<std::string> used;
-  for (CohortCase& c : cases) {
-    c.name = unique_stem(c.name.empty() ? case_name(c.input) : file_stem_for(c.name, "case"), used);
-  }
+  name_cases(cases);
   return cases;
 }
 

@@ -1,9 +1,11 @@
 // The cases of a cohort run (`segmesh batch INPUTS...`) from what the user names, in order:
 //
 //   a volume file      one case (also when it is missing: the case fails, the rest go on)
-//   a folder           holding volume files (volume_extension): each of them, sorted by name,
-//                      and each sub-folder holding files but no volume file, as a DICOM series;
-//                      holding no volume file and no sub-folder: the folder itself, a DICOM series
+//   a folder           every volume file in it and below it (volume_extension), and every
+//                      folder below holding no volume file and no sub-folder whose first file
+//                      starts like DICOM (a series); the folder itself when it holds only files
+//                      and none is a volume file (a DICOM series, as `segmesh mesh` reads it).
+//                      Hidden entries and the output folder are left out. Sorted by path.
 //   a glob             "scans/*/seg.nii.gz" (quoted, so the shell leaves it): the matches, sorted
 //   a manifest         a .csv or .tsv file with a header row: a `path` column (relative paths
 //                      are relative to the manifest's folder), optionally a `case` column (the
@@ -12,7 +14,9 @@
 //                      '_' or '-'), whose non-empty cells are that case's options
 //
 // Case names come from case_name (the file name without its extension) or the manifest's `case`
-// column, made unique in order ("seg", "seg_2", ...), compared in lower case. They are given to
+// column; where files share a name, the folders above them go in front until the names differ
+// ("s0001/ct.nii.gz" and "s0002/ct.nii.gz" are "s0001_ct" and "s0002_ct"), and what still
+// collides gets "_2", "_3", ..., compared in lower case. They are given to
 // the whole list before any shard is taken, so every shard names a case the same way.
 //
 // Errors: segmesh::Error in one line, naming the argument or "<manifest>:<line>": a glob or
@@ -41,7 +45,9 @@ struct CohortCase {
   std::filesystem::path manifest_folder;  // what a relative label-names cell is relative to
 };
 
-std::vector<CohortCase> expand_cohort_inputs(const std::vector<std::string>& inputs);
+// `exclude`: the output folder, never searched for inputs.
+std::vector<CohortCase> expand_cohort_inputs(const std::vector<std::string>& inputs,
+                                             const std::filesystem::path& exclude = {});
 
 // `defaults` (a request, e.g. the command line's) with the case's own options set through the
 // options layer (meshing_option_specs), still a request (the runner resolves it; surfaces_note

@@ -160,7 +160,7 @@ TEST(BatchCli, FailedCasesAreIsolatedAndASecondRunSkipsFinishedOnes) {
 }
 
 // --shard 1/3, 2/3, 3/3 into one folder: each writes its own summary, and together they take
-// every case exactly once (names are given over the whole list, so "seg" and "seg_2" agree).
+// every case exactly once (names are given over the whole list, so "a_seg" and "b_seg" agree).
 TEST(BatchCli, ShardsCoverEveryCaseExactlyOnce) {
   SEGMESH_DATA_FILE(heart, "dcmqi/heart_seg.nrrd");
   SEGMESH_DATA_FILE(spine, "dcmqi/spine_seg.nrrd");
@@ -186,16 +186,59 @@ TEST(BatchCli, ShardsCoverEveryCaseExactlyOnce) {
   }
   EXPECT_FALSE(fs::exists(dir / "out" / "summary.csv"));
   const std::multiset<std::string> expected = {
-      "seg " + (dir / "a" / "seg.nrrd").string(),
-      "seg_2 " + (dir / "b" / "seg.nrrd").string(),
+      "a_seg " + (dir / "a" / "seg.nrrd").string(),
+      "b_seg " + (dir / "b" / "seg.nrrd").string(),
       "gone1 " + (dir / "gone1.nrrd").string(),
       "gone2 " + (dir / "gone2.nrrd").string(),
       "gone3 " + (dir / "gone3.nrrd").string(),
       "spine_seg " + spine.string(),
       "gone4 " + (dir / "gone4.nrrd").string()};
   EXPECT_EQ(seen, expected);
-  EXPECT_TRUE(fs::exists(dir / "out" / "seg" / "case.json"));
-  EXPECT_TRUE(fs::exists(dir / "out" / "seg_2" / "case.json"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "a_seg" / "case.json"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "b_seg" / "case.json"));
+}
+
+// A cohort as segmenters write it, one folder per subject with files of one name, the output
+// folder inside it: every volume below the folder is a case, named by its subject folder; a
+// folder of notes is no DICOM series and no case; the output folder is never taken for input,
+// so a second run finds the same cases, all finished.
+TEST(BatchCli, CohortFolderIsSearchedWholeAndNamesCasesByTheirFolders) {
+  SEGMESH_DATA_FILE(heart, "dcmqi/heart_seg.nrrd");
+  SEGMESH_DATA_FILE(spine, "dcmqi/spine_seg.nrrd");
+  const fs::path dir = test::scratch_dir("batch_tree");
+  const fs::path cohort = dir / "cohort";
+  fs::create_directories(cohort / "s0001" / "segmentations");
+  fs::create_directories(cohort / "s0002" / "segmentations");
+  fs::create_directories(cohort / "notes");
+  fs::copy_file(heart, cohort / "s0001" / "segmentations" / "seg.nrrd");
+  fs::copy_file(spine, cohort / "s0002" / "segmentations" / "seg.nrrd");
+  fs::copy_file(spine, cohort / "s0002" / "spine.nrrd");
+  volume_test::write_text(cohort / "notes" / "readme.txt", "who segmented what\n");
+  const fs::path out = cohort / "meshes";
+  for (const char* run : {"first", "second"}) {
+    SCOPED_TRACE(run);
+    const auto r = run_segmesh("batch " + shell_quoted(cohort) + " -o " + shell_quoted(out));
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const std::vector<Row> rows = read_summary(out / "summary.csv");
+    ASSERT_EQ(rows.size(), 3u);
+    const std::string status = std::string(run) == "first" ? "ok" : "skipped";
+    EXPECT_EQ(rows[0].at("case"), "s0001_segmentations_seg");
+    EXPECT_EQ(rows[1].at("case"), "s0002_segmentations_seg");
+    EXPECT_EQ(rows[2].at("case"), "spine");
+    for (const Row& row : rows) EXPECT_EQ(row.at("status"), status) << row.at("case");
+  }
+  // A leaf folder holding only DICOM-looking files is a series (here an unreadable one: a
+  // failed case, named by its folder); the notes folder still is none.
+  fs::create_directories(cohort / "s0003" / "dicom");
+  std::string fake(128, '\0');
+  fake += "DICMnot really";
+  volume_test::write_text(cohort / "s0003" / "dicom" / "IM0001", fake);
+  const auto r = run_segmesh("batch " + shell_quoted(cohort) + " -o " + shell_quoted(out));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  const std::vector<Row> rows = read_summary(out / "summary.csv");
+  ASSERT_EQ(rows.size(), 4u);
+  EXPECT_EQ(rows[3].at("case"), "dicom");
+  EXPECT_EQ(rows[3].at("status"), "failed");
 }
 
 // What a killed run leaves (a hidden temporary folder, even one holding a marker; an old folder
