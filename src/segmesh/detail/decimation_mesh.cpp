@@ -1,6 +1,7 @@
 #include "segmesh/detail/decimation_mesh.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "segmesh/detail/surface_roles.hpp"
@@ -179,9 +180,20 @@ bool DecimationMesh::flip_keeps_witnesses(uint32_t t1, uint32_t t2, const std::a
   });
 }
 
-// The first triangle of fan within sqrt(limit2) of q, or ~0u.
+// The first triangle of fan within sqrt(limit2) of q, or ~0u. Most triangles of a fan are
+// decided without the exact test: a box farther than the limit rejects, a corner within it
+// accepts (the triangle's closest point is no farther than its corners).
 uint32_t DecimationMesh::witness_in_fan(const Vec3d& q, double limit2) const {
+  const double r = std::sqrt(limit2);
   for (const auto& [t, p] : fan) {
+    const double lo_x = std::min({p[0].x, p[1].x, p[2].x}), hi_x = std::max({p[0].x, p[1].x, p[2].x});
+    const double lo_y = std::min({p[0].y, p[1].y, p[2].y}), hi_y = std::max({p[0].y, p[1].y, p[2].y});
+    const double lo_z = std::min({p[0].z, p[1].z, p[2].z}), hi_z = std::max({p[0].z, p[1].z, p[2].z});
+    if (q.x < lo_x - r || q.x > hi_x + r || q.y < lo_y - r || q.y > hi_y + r || q.z < lo_z - r ||
+        q.z > hi_z + r)
+      continue;
+    if (std::min({dot(p[0] - q, p[0] - q), dot(p[1] - q, p[1] - q), dot(p[2] - q, p[2] - q)}) <= limit2)
+      return t;
     const Vec3d d = closest_point_on_triangle(q, p[0], p[1], p[2]) - q;
     if (dot(d, d) <= limit2) return t;
   }
