@@ -132,7 +132,7 @@ class Collapser {
     const double limit2 = limit_mm_ > 0 ? limit_mm_ * limit_mm_ : kInfinity;
     const double move_bound = limit_mm_ > 0 ? limit_mm_ : stats.largest_cost_mm;
     for (int round = 0; round < kImproveRounds; ++round) {
-      const int64_t flips = flip_pass(m_, kFlipToleranceShare * bound, limit2);
+      const int64_t flips = flip_pass(m_, kFlipToleranceShare * bound, bound, limit2);
       const int64_t moves = relax_pass(m_, move_bound, limit2);
       const int64_t slivers = sliver_pass(move_bound, limit2);
       stats.flips += flips;

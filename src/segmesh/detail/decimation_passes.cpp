@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "segmesh/labelled_surface.hpp"
 #include "segmesh/quality.hpp"
@@ -13,35 +14,74 @@ constexpr double kRelaxTurnCos = 0.8660254037844387;  // 30 degrees
 // Relaxation takes a move that makes the mean radii ratio around the vertex better if the worst
 // stays at least this (or where it was), besides any move that makes the worst better.
 constexpr double kRelaxKeepWorst = 0.3;
+// A sliver, as issue 36 counts them (decimation.cpp's kSliverTarget).
+constexpr double kSliverRho = 0.05;
 }  // namespace
 
-int64_t flip_pass(DecimationMesh& m, double tolerance, double limit2) {
+namespace {
+
+// The quad across edge (a, b) of live triangle t1 (a -> b in t1's winding): the other triangle
+// on it, of the same interface, and its corner d off the edge; nullopt when the edge has another
+// number of triangles (a junction curve's edge), another interface, or d is t1's third corner.
+struct Quad {
+  uint32_t t2, d;
+  bool turned;  // t2's sides are t1's the other way round (it holds a -> b)
+};
+std::optional<Quad> quad_across(DecimationMesh& m, uint32_t t1, uint32_t a, uint32_t b, uint32_t c) {
+  uint32_t t2 = ~0u;
+  int on_edge = 0;
+  m.for_edge_triangles(a, b, [&](uint32_t t) {
+    ++on_edge;
+    if (t != t1) t2 = t;
+  });
+  if (on_edge != 2 || t2 == ~0u || !same_interface(m.s.sides[t1], m.s.sides[t2])) return std::nullopt;
+  // t2 holds b -> a, or a -> b when its sides are the other way round.
+  const bool turned = m.s.sides[t1] != m.s.sides[t2];
+  const uint32_t from = turned ? a : b, to = turned ? b : a;
+  const uint32_t* i2 = &m.s.mesh.indices[3 * size_t(t2)];
+  int q = 0;
+  while (q < 3 && !(i2[q] == from && i2[(q + 1) % 3] == to)) ++q;
+  if (q == 3) return std::nullopt;
+  const uint32_t d = i2[(q + 2) % 3];
+  if (c == d) return std::nullopt;
+  return Quad{t2, d, turned};
+}
+
+// The quad a -> d -> b -> c's two triangles after the flip of (a, b) into (c, d), keeping its
+// winding (t2 turned back when its sides are the other way round).
+std::array<std::array<uint32_t, 3>, 2> flip_triangles(uint32_t a, uint32_t b, uint32_t c, const Quad& q) {
+  return {std::array<uint32_t, 3>{a, q.d, c},
+          q.turned ? std::array<uint32_t, 3>{c, b, q.d} : std::array<uint32_t, 3>{q.d, b, c}};
+}
+
+// Replaces t1 and t2 by the flipped pair (the witnesses already committed).
+void apply_flip(DecimationMesh& m, uint32_t t1, uint32_t a, uint32_t b, uint32_t c, const Quad& q) {
+  const auto [new1, new2] = flip_triangles(a, b, c, q);
+  std::copy(new1.begin(), new1.end(), &m.s.mesh.indices[3 * size_t(t1)]);
+  std::copy(new2.begin(), new2.end(), &m.s.mesh.indices[3 * size_t(q.t2)]);
+  std::erase(m.tris[a], q.t2);
+  std::erase(m.tris[b], t1);
+  m.tris[c].push_back(q.t2);
+  m.tris[q.d].push_back(t1);
+}
+
+bool are_neighbours(const DecimationMesh& m, uint32_t c, uint32_t d) {
+  const ListPool::Lease around_c = m.neighbours(c);
+  return std::binary_search(around_c->begin(), around_c->end(), d);
+}
+
+}  // namespace
+
+int64_t flip_pass(DecimationMesh& m, double tolerance, double bound, double limit2) {
   if (!(tolerance > 0)) return 0;
   int64_t flipped = 0;
   for (uint32_t t1 = 0; t1 < m.alive_tri.size(); ++t1) {
     for (int r = 0; r < 3 && m.alive_tri[t1]; ++r) {
-      uint32_t* i1 = &m.s.mesh.indices[3 * size_t(t1)];
+      const uint32_t* i1 = &m.s.mesh.indices[3 * size_t(t1)];
       const uint32_t a = i1[r], b = i1[(r + 1) % 3], c = i1[(r + 2) % 3];
-      uint32_t t2 = ~0u;
-      int on_edge = 0;
-      m.for_edge_triangles(a, b, [&](uint32_t t) {
-        ++on_edge;
-        if (t != t1) t2 = t;
-      });
-      if (on_edge != 2 || t2 == ~0u || !same_interface(m.s.sides[t1], m.s.sides[t2])) continue;
-      // t2 holds b -> a, or a -> b when its sides are the other way round.
-      const bool turned = m.s.sides[t1] != m.s.sides[t2];
-      const uint32_t from = turned ? a : b, to = turned ? b : a;
-      uint32_t* i2 = &m.s.mesh.indices[3 * size_t(t2)];
-      int q = 0;
-      while (q < 3 && !(i2[q] == from && i2[(q + 1) % 3] == to)) ++q;
-      if (q == 3) continue;
-      const uint32_t d = i2[(q + 2) % 3];
-      if (c == d) continue;
-      {
-        const ListPool::Lease around_c = m.neighbours(c);
-        if (std::binary_search(around_c->begin(), around_c->end(), d)) continue;
-      }
+      const std::optional<Quad> quad = quad_across(m, t1, a, b, c);
+      if (!quad || are_neighbours(m, c, quad->d)) continue;
+      const uint32_t d = quad->d;
       const Vec3d pa = m.pos[a], pb = m.pos[b], pc = m.pos[c], pd = m.pos[d];
       const double before = std::min(radii_ratio(pa, pb, pc), radii_ratio(pb, pa, pd));
       const double after = std::min(radii_ratio(pa, pd, pc), radii_ratio(pd, pb, pc));
@@ -54,20 +94,19 @@ int64_t flip_pass(DecimationMesh& m, double tolerance, double limit2) {
         continue;
       const Vec3d lines = cross(pb - pa, pd - pc);
       const double height = std::abs(dot(lines, pc - pa)) / std::max(norm(lines), 1e-30);
-      if (height > tolerance) continue;
-      // (a, d, c) and (d, b, c): the quad a -> d -> b -> c keeps its winding (t2 turned back
-      // when its sides are the other way round).
-      const std::array<uint32_t, 3> new1{a, d, c};
-      const std::array<uint32_t, 3> new2 = turned ? std::array<uint32_t, 3>{c, b, d}
-                                                  : std::array<uint32_t, 3>{d, b, c};
-      if (!m.flip_keeps_witnesses(t1, t2, new1, new2, {a, b, c, d}, limit2)) continue;
+      // A flip that removes a sliver may move the surface by what the bound leaves above the
+      // quad's corners' own errors (their quadrics), when that is more than `tolerance`.
+      double allowed = tolerance;
+      if (before < kSliverRho && height > tolerance) {
+        double local = 0;
+        for (uint32_t x : {a, b, c, d}) local = std::max(local, cost_mm(m.quadric[x], m.pos[x]));
+        allowed = std::max(tolerance, bound - local);
+      }
+      if (height > allowed) continue;
+      const auto [new1, new2] = flip_triangles(a, b, c, *quad);
+      if (!m.flip_keeps_witnesses(t1, quad->t2, new1, new2, {a, b, c, d}, limit2)) continue;
       m.commit_witnesses();
-      std::copy(new1.begin(), new1.end(), i1);
-      std::copy(new2.begin(), new2.end(), i2);
-      std::erase(m.tris[a], t2);
-      std::erase(m.tris[b], t1);
-      m.tris[c].push_back(t2);
-      m.tris[d].push_back(t1);
+      apply_flip(m, t1, a, b, c, *quad);
       ++flipped;
     }
   }

@@ -16,11 +16,13 @@ namespace segmesh {
 // becomes the other diagonal of its quad when the smaller radii ratio of the two grows, the
 // other diagonal is not an edge already (no shell gets a doubled edge), neither new triangle
 // turns more than 60 degrees from the quad's normal, the surface moves at most `tolerance`
-// (the height of the tetrahedron of the two diagonals) and every original vertex whose witness
+// (the height of the tetrahedron of the two diagonals; when the flip removes a sliver, radii
+// ratio below 0.05, at most `bound` less the largest quadric error of the quad's corners, if
+// that is more) and every original vertex whose witness
 // was one of the two finds a new one within the bound. A flip changes both sides of a contact
 // alike and moves no vertex.
 // Returns the flips made.
-int64_t flip_pass(DecimationMesh& m, double tolerance, double limit2);
+int64_t flip_pass(DecimationMesh& m, double tolerance, double bound, double limit2);
 
 // One pass of tangential relaxation over the sheet vertices whose neighbours are all sheet
 // vertices (so every triangle within two rings is of one interface and a move crosses
