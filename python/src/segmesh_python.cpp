@@ -5,26 +5,22 @@
 // writers of segmesh_io write. The GIL is released while the volume is copied, meshed and
 // measured; a progress callback and Ctrl-C (KeyboardInterrupt) cancel through segmesh::Progress.
 // The pieces: python_options (keyword arguments), python_arrays (arrays to Image), python_results
-// (scenes to dicts of numpy arrays, and back for the writers).
+// (scenes to dicts of numpy arrays, and back for the writers), python_progress (the run on its own
+// thread and its progress), python_cohort (the cohort case runner: run_case and the rest).
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
-#include <tbb/global_control.h>
 
-#include <atomic>
-#include <chrono>
-#include <condition_variable>
-#include <exception>
 #include <filesystem>
 #include <memory>
-#include <mutex>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "python_arrays.hpp"
+#include "python_cohort.hpp"
 #include "python_options.hpp"
+#include "python_progress.hpp"
 #include "python_results.hpp"
 #include "segmesh/error.hpp"
 #include "segmesh/meshing_options.hpp"
@@ -41,108 +37,6 @@ using namespace segmesh::python;
 
 namespace {
 
-// The core reports from any thread; Python is called only from the calling thread, which waits
-// for the run (on its own thread) and every 50 ms, with the GIL taken, checks for Ctrl-C
-// (PyErr_CheckSignals: Python runs signal handlers on its main thread only) and calls the
-// callback with the current step and fraction. A callback that returns False or raises, and
-// KeyboardInterrupt, cancel the run; the Python error is kept and raised once the core unwound.
-class PyProgress : public Progress {
- public:
-  explicit PyProgress(py::object callback) : callback_(std::move(callback)) {}
-  ~PyProgress() override {
-    Py_XDECREF(error_type_);
-    Py_XDECREF(error_value_);
-    Py_XDECREF(error_trace_);
-  }
-
-  void step(std::string_view name) override {
-    std::lock_guard lock(step_mutex_);
-    step_ = name;
-    begun_.push_back(step_);
-    fraction_.store(0, std::memory_order_relaxed);
-  }
-  void update(double fraction) override { fraction_.store(fraction, std::memory_order_relaxed); }
-  bool cancelled() const override { return cancelled_.load(std::memory_order_relaxed); }
-
-  // On the calling thread, with the GIL held.
-  void poll() {
-    if (cancelled_.load()) return;
-    if (PyErr_CheckSignals() != 0) return cancel_with_python_error();
-    if (callback_.is_none()) return;
-    // Every step is reported, with fraction 0, also one that began and ended since the last poll;
-    // then the current step with its fraction.
-    std::vector<std::string> begun;
-    std::string step;
-    {
-      std::lock_guard lock(step_mutex_);
-      begun.swap(begun_);
-      step = step_;
-    }
-    if (step.empty()) return;
-    try {
-      for (size_t i = 0; i + 1 < begun.size() && !cancelled_.load(); ++i) call(begun[i], 0);
-      if (!cancelled_.load()) call(step, fraction_.load(std::memory_order_relaxed));
-    } catch (py::error_already_set& e) {
-      e.restore();
-      cancel_with_python_error();
-    } catch (...) {  // nothing may leave the polling loop while the run goes on
-      other_error_ = std::current_exception();
-      cancelled_.store(true);
-    }
-  }
-
-  // On the calling thread, with the GIL held, after a run that was not cancelled: the steps not
-  // reported yet (a run shorter than one poll), then the last step at 1. The callback's error, if
-  // it raises, is raised.
-  void finish() {
-    if (callback_.is_none() || cancelled_.load()) return;
-    std::vector<std::string> begun;
-    std::string step;
-    {
-      std::lock_guard lock(step_mutex_);
-      begun.swap(begun_);
-      step = step_;
-    }
-    for (size_t i = 0; i + 1 < begun.size(); ++i) call(begun[i], 0);
-    if (!step.empty()) call(step, 1);
-  }
-
-  // With the GIL held, after the core threw Cancelled: raises what cancelled the run, if it was
-  // an error (the callback's or KeyboardInterrupt); returns false when the callback said stop.
-  bool restore_error() {
-    if (other_error_) std::rethrow_exception(other_error_);
-    if (!error_type_) return false;
-    PyErr_Restore(error_type_, error_value_, error_trace_);
-    error_type_ = error_value_ = error_trace_ = nullptr;
-    return true;
-  }
-
- private:
-  void call(const std::string& step, double fraction) {
-    const py::object result = callback_(step, fraction);
-    if (result.is_none()) return;
-    const int truth = PyObject_IsTrue(result.ptr());
-    if (truth < 0) throw py::error_already_set();
-    if (truth == 0) cancelled_.store(true);
-  }
-
-  void cancel_with_python_error() {
-    PyErr_Fetch(&error_type_, &error_value_, &error_trace_);
-    cancelled_.store(true);
-  }
-
-  py::object callback_;
-  std::atomic<bool> cancelled_{false};
-  std::atomic<double> fraction_{0};
-  std::mutex step_mutex_;
-  std::string step_;
-  std::vector<std::string> begun_;  // steps begun since the last poll
-  PyObject* error_type_ = nullptr;
-  PyObject* error_value_ = nullptr;
-  PyObject* error_trace_ = nullptr;
-  std::exception_ptr other_error_;
-};
-
 // Meshes and measures `make_image()`'s image on a thread of its own, the GIL released, while the
 // calling thread polls `progress` (Ctrl-C, the callback); raises the Python error that cancelled
 // the run, or segmesh.Cancelled, or the core's error.
@@ -152,65 +46,19 @@ py::dict run(const Request& request, const py::object& callback, MakeImage&& mak
   Scene scene;
   SceneMeasures measures;
   PipelineStats stats;
-  std::exception_ptr error;
-  {
-    py::gil_scoped_release release;
-    std::mutex mutex;
-    std::condition_variable finished;
-    bool done = false;
-    std::thread worker([&] {
-      try {
-        std::unique_ptr<tbb::global_control> limit;
-        if (request.threads > 0) {
-          limit = std::make_unique<tbb::global_control>(
-              tbb::global_control::max_allowed_parallelism, size_t(request.threads));
-        }
-        Image image = make_image();
-        const SmoothOptions& s = request.options.smooth;
-        const bool moved = s.method != SmoothMethod::none || request.options.decimate.active();
-        ExtractedPositions extracted;
-        scene = build_scene_releasing(image, request.options, progress, &stats,
-                                      request.measure && moved ? &extracted : nullptr);
-        if (request.measure) {
-          measures = measure_scene(scene, {.quality = true,
-                                           .contacts = true,
-                                           .extracted = moved ? &extracted : nullptr},
-                                   progress);
-        }
-      } catch (...) {
-        error = std::current_exception();
-      }
-      std::lock_guard lock(mutex);
-      done = true;
-      finished.notify_one();
-    });
-    std::unique_lock lock(mutex);
-    while (!finished.wait_for(lock, std::chrono::milliseconds(50), [&] { return done; })) {
-      lock.unlock();
-      {
-        py::gil_scoped_acquire gil;
-        progress.poll();
-      }
-      lock.lock();
+  run_polling(progress, request.threads, [&] {
+    Image image = make_image();
+    const SmoothOptions& s = request.options.smooth;
+    const bool moved = s.method != SmoothMethod::none || request.options.decimate.active();
+    ExtractedPositions extracted;
+    scene = build_scene_releasing(image, request.options, progress, &stats,
+                                  request.measure && moved ? &extracted : nullptr);
+    if (request.measure) {
+      measures = measure_scene(
+          scene, {.quality = true, .contacts = true, .extracted = moved ? &extracted : nullptr},
+          progress);
     }
-    lock.unlock();
-    worker.join();
-  }
-  if (error) {
-    try {
-      std::rethrow_exception(error);
-    } catch (const Cancelled&) {
-      if (progress.restore_error()) throw py::error_already_set();
-      throw;
-    }
-  }
-  // Cancelled after the core's last check (Ctrl-C during the last moments): the run is complete,
-  // but the interrupt is not swallowed, and a callback's stop is honoured the same way.
-  if (progress.cancelled()) {
-    if (progress.restore_error()) throw py::error_already_set();
-    throw Cancelled();
-  }
-  progress.finish();
+  });
   return result_dict(std::move(scene), measures, stats);
 }
 
@@ -304,5 +152,6 @@ PYBIND11_MODULE(_segmesh, m) {
         py::arg("quantize") = false);
   m.def("option_specs", &option_specs);
   m.def("phantom", &phantom, py::arg("size"), py::arg("spacing"));
+  add_cohort_functions(m);
 }
 

@@ -21,11 +21,16 @@ def data(*path):
     return p
 
 
-def cli(*args):
-    """Runs the built `segmesh` program; fails the test with its stderr when it fails."""
+def run_cli(*args):
+    """Runs the built `segmesh` program; returns its CompletedProcess (text), whatever its exit code."""
     if not os.path.exists(CLI):
         raise unittest.SkipTest(f"the segmesh program is not built ({CLI})")
-    done = subprocess.run([CLI, *args], capture_output=True, text=True)
+    return subprocess.run([CLI, *args], capture_output=True, text=True)
+
+
+def cli(*args):
+    """Runs the built `segmesh` program; fails the test with its stderr when it fails."""
+    done = run_cli(*args)
     if done.returncode != 0:
         raise AssertionError(f"segmesh {' '.join(args)} failed: {done.stderr}")
     return done

@@ -28,16 +28,12 @@ std::string sibling_prefix(const std::string& name, const char* kind) {
   return "." + name + "." + kind + "-";
 }
 
-// Removes what a killed run of this case left beside OUT/name.
-void remove_stale_siblings(const fs::path& out_dir, const std::string& name) {
-  const std::string tmp = sibling_prefix(name, "tmp"), old = sibling_prefix(name, "old");
-  std::error_code ec;
-  std::vector<fs::path> stale;
-  for (const fs::directory_entry& e : fs::directory_iterator(out_dir, ec)) {
-    const std::string file = e.path().filename().string();
-    if (file.starts_with(tmp) || file.starts_with(old)) stale.push_back(e.path());
-  }
-  for (const fs::path& p : stale) fs::remove_all(p, ec);
+// ".name.tmp-<digits>" or ".name.old-<digits>": only this case's own siblings. The digits matter:
+// case "a"'s prefix ".a.tmp-" also begins the temporary folder of a case named "a.tmp-1"
+// (".a.tmp-1.tmp-<pid>"), which may be running beside it.
+bool is_case_sibling(const std::string& file, const std::string& prefix) {
+  if (!file.starts_with(prefix) || file.size() == prefix.size()) return false;
+  return file.find_first_not_of("0123456789", prefix.size()) == std::string::npos;
 }
 
 nlohmann::json marker_json(const CaseResult& r) {
@@ -117,6 +113,17 @@ std::string_view case_status_name(CaseStatus status) {
   return "pending";
 }
 
+void remove_case_temporaries(const fs::path& out_dir, const std::string& name) {
+  const std::string tmp = sibling_prefix(name, "tmp"), old = sibling_prefix(name, "old");
+  std::error_code ec;
+  std::vector<fs::path> stale;
+  for (const fs::directory_entry& e : fs::directory_iterator(out_dir, ec)) {
+    const std::string file = e.path().filename().string();
+    if (is_case_sibling(file, tmp) || is_case_sibling(file, old)) stale.push_back(e.path());
+  }
+  for (const fs::path& p : stale) fs::remove_all(p, ec);
+}
+
 std::optional<CaseResult> finished_case(const fs::path& out_dir, const std::string& name,
                                         const fs::path& input) {
   std::ifstream in(out_dir / name / kMarker);
@@ -141,7 +148,7 @@ std::optional<CaseResult> finished_case(const fs::path& out_dir, const std::stri
 CaseResult run_case(const CaseRequest& q, Progress& progress) {
   const auto start = std::chrono::steady_clock::now();
   CaseResult row{.name = q.name, .input = q.input.string()};
-  remove_stale_siblings(q.out_dir, q.name);
+  remove_case_temporaries(q.out_dir, q.name);
   if (!q.force) {
     if (std::optional<CaseResult> done = finished_case(q.out_dir, q.name, q.input)) return *done;
   }

@@ -74,6 +74,11 @@ std::optional<CaseResult> finished_case(const std::filesystem::path& out_dir,
                                         const std::string& name,
                                         const std::filesystem::path& input);
 
+// Removes the hidden siblings a killed run of case `name` left in `out_dir` (.name.tmp-<pid>,
+// .name.old-<pid>; never another case's). run_case does it first; a scheduler that gives up on
+// a case whose worker died (the Python package's Dask runner) does it for that case.
+void remove_case_temporaries(const std::filesystem::path& out_dir, const std::string& name);
+
 // A case's name from its input: the file name without its volume extension (volume_extension:
 // .nii.gz, .seg.nrrd, .nrrd, ...), a DICOM folder's own name; characters other than ASCII
 // letters, digits, '-', '_' and '.' become '_', leading and trailing dots are dropped, at most
