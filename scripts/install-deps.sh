@@ -25,6 +25,7 @@ packages=(
   xvfb xauth                                    # the viewer's smoke test runs it under xvfb-run
   pybind11-dev python3-dev                      # the Python package (python/, docs/PYTHON.md)
   python3-nibabel                               # its tests: nibabel images against the CLI
+  python3-dask python3-distributed              # python3 -m segmesh.batch: cohorts on a Dask cluster (docs/COHORTS.md)
 )
 for flag in "$@"; do
   case "$flag" in

@@ -17,7 +17,7 @@ defaults and checks (segmesh.options() lists them): mesh(a, method="dc", iterati
 labels=[1, 2], iso=300, pass_band=0.02). A flag takes True or False: preserve_volume=False is the
 CLI's --no-preserve-volume. A bad option or array raises ValueError with the CLI's message.
 
-Cohorts: segmesh.run_case(file, "out") is one case of `segmesh batch` (segmesh/cohort.py).
+Cohorts: segmesh.run_case(file, "out") is one case of `segmesh batch` (segmesh/cases.py).
 """
 
 import os as _os
@@ -26,7 +26,7 @@ import numpy as _np
 
 from . import _segmesh
 from ._segmesh import Cancelled
-from .cohort import Cohort, cohort, run_case, summary_file_name, write_summary
+from .cases import Cohort, cohort, run_case, summary_file_name, write_summary
 
 __all__ = ["mesh", "mesh_file", "write", "options", "phantom", "Part", "Result", "Cancelled",
            "lps_grid_from_ras_affine", "run_case", "cohort", "Cohort", "write_summary",

@@ -95,3 +95,8 @@ def write_summary(path, rows):
 def summary_file_name(shard=(1, 1)):
     """"summary.csv", or "summary-I-of-N.csv" for shard (I, N)."""
     return _segmesh.summary_file_name(int(shard[0]), int(shard[1]))
+
+
+def _run_task(case, out_dir, settings):
+    """run_case as one task of a scheduler (segmesh.batch): the shared settings in one dict."""
+    return run_case(case, out_dir, **settings)
