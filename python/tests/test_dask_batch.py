@@ -2,7 +2,7 @@
 summary.csv as `segmesh batch` (except seconds) and exit code 1 with a corrupt and a missing case,
 a second run skipping every finished case; a worker killed in the middle of a case (the case is
 retried, or recorded as failed once retries are used up; never lost, never half written, no
-temporary folder left); shards 1/3..3/3 covering every case once."""
+temporary folder left); shards 1/3..3/3, run on an existing cluster (--scheduler), covering every case once."""
 
 import csv
 import os
@@ -18,7 +18,6 @@ from support import TempDir, data, run_cli
 
 try:
     import distributed
-    from segmesh import batch
 except ImportError:  # Debian: python3-distributed, python3-dask (scripts/install-deps.sh)
     distributed = None
 
@@ -146,15 +145,17 @@ class DaskBatch(unittest.TestCase):
             inputs = [os.path.join(tmp, "a"), os.path.join(tmp, "b"), *gone[:3], spine, gone[3]]
             out = os.path.join(tmp, "out")
             seen = []
-            # In this process (threads, in-process transport): quick to start, and these cases
-            # take the same path through segmesh.batch as on worker processes.
+            # An existing cluster (--scheduler), here one in this process on loopback TCP: worker
+            # threads, quick to start; the cases take the same path as on worker processes.
             cluster = distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                                               protocol="tcp", host="127.0.0.1",
                                                dashboard_address=None)
-            with cluster, distributed.Client(cluster) as client:
+            with cluster:
                 for shard in (1, 2, 3):
-                    code = batch.main([*inputs, "-o", out, "--quiet", "--shard", f"{shard}/3"],
-                                      client=client)
-                    self.assertEqual(code, 1)  # every shard holds a missing case
+                    code, err = finish(self, dask_batch(*inputs, "-o", out, "--quiet", "--shard",
+                                                        f"{shard}/3", "--scheduler",
+                                                        cluster.scheduler_address))
+                    self.assertEqual(code, 1, err)  # every shard holds a missing case
                     seen += read_summary(os.path.join(out, f"summary-{shard}-of-3.csv"))
             self.assertFalse(os.path.exists(os.path.join(out, "summary.csv")))
             expected = [("a_seg", os.path.join(tmp, "a", "seg.nrrd")),
