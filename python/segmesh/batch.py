@@ -11,7 +11,6 @@ failed, 2 for a bad argument (nothing written).
 
 --workers N (default 2) starts a dask.distributed LocalCluster of N worker processes, one thread
 each, on loopback; --scheduler ADDRESS uses an existing cluster whose workers can import segmesh
-from segmesh.cases import _run_task
 and see INPUTS and OUT at the same paths. A worker that dies while meshing a case (killed, out of
 memory, its machine lost) has the case run again on another worker, up to --retries times
 (the scheduler's allowed-failures; on a cluster of your own, its own setting applies), then the
