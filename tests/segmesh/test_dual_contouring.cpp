@@ -19,6 +19,7 @@
 #include "segmesh/mesh_measures.hpp"
 #include "segmesh/quality.hpp"
 #include "support/reference_components.hpp"
+#include "support/sharp_shapes.hpp"
 #include "support/test_fields.hpp"
 
 namespace segmesh {
@@ -26,7 +27,9 @@ namespace {
 
 using test::anisotropic_grid;
 using test::padded;
+using test::rotation;
 using test::sample;
+using test::transpose;
 
 void expect_closed_manifold(const TriMesh& mesh, const std::string& what) {
   const MeshMeasures m = measure_mesh(mesh);
@@ -138,71 +141,19 @@ TEST(DualContouring, RandomGreyFieldsAreClosed) {
   }
 }
 
-double percentile(std::vector<double> v, double q) {
-  std::sort(v.begin(), v.end());
-  return v[static_cast<size_t>(q * double(v.size() - 1))];
-}
-
-// Points along the twelve edges of a rotated cube of half-side h centred at the origin.
-std::vector<Vec3d> cube_edge_points(const Mat3d& rotation, double h) {
-  std::vector<Vec3d> points;
-  for (int axis = 0; axis < 3; ++axis)
-    for (int a = -1; a <= 1; a += 2)
-      for (int b = -1; b <= 1; b += 2)
-        for (int s = 1; s < 40; ++s) {
-          double p[3];
-          p[axis] = h * (-1 + 2.0 * s / 40.0);
-          p[(axis + 1) % 3] = a * h;
-          p[(axis + 2) % 3] = b * h;
-          points.push_back(rotation * Vec3d{p[0], p[1], p[2]});
-        }
-  return points;
-}
-
-Mat3d rotation(double ax, double ay, double az) {
-  const Mat3d rx{1, 0, 0, 0, std::cos(ax), -std::sin(ax), 0, std::sin(ax), std::cos(ax)};
-  const Mat3d ry{std::cos(ay), 0, std::sin(ay), 0, 1, 0, -std::sin(ay), 0, std::cos(ay)};
-  const Mat3d rz{std::cos(az), -std::sin(az), 0, std::sin(az), std::cos(az), 0, 0, 0, 1};
-  auto mul = [](const Mat3d& a, const Mat3d& b) {
-    Mat3d c{};
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k) c[3 * i + j] += a[3 * i + k] * b[3 * k + j];
-    return c;
-  };
-  return mul(rz, mul(ry, rx));
-}
-
-Mat3d transpose(const Mat3d& m) { return {m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8]}; }
-
 TEST(DualContouring, KeepsTheSharpEdgesOfARotatedCubeThatMarchingCubesChamfers) {
   const double h = 6;
-  const Mat3d r = rotation(0.3, 0.5, 0.2);
-  const Mat3d rt = transpose(r);
-  // Signed distance to the cube, inside positive.
-  auto cube = [&](Vec3d p) {
-    const Vec3d q = rt * p;
-    const Vec3d d{std::abs(q.x) - h, std::abs(q.y) - h, std::abs(q.z) - h};
-    const Vec3d out{std::max(d.x, 0.0), std::max(d.y, 0.0), std::max(d.z, 0.0)};
-    return -(norm(out) + std::min(std::max({d.x, d.y, d.z}), 0.0));
-  };
+  const test::RotatedCube cube{rotation(0.3, 0.5, 0.2), h};
   const Grid grid = anisotropic_grid(h * 1.8 + 2);
   const auto field = sample(grid, cube);
   const TriMesh mc = marching_cubes(field, {.iso = 0});
   const TriMesh dc = dual_contouring(field, {.iso = 0});
   expect_closed_manifold(dc, "cube");
   expect_better_mean_radii_ratio(mc, dc, "rotated cube");
-  const auto edges = cube_edge_points(r, h);
-  const MeshDistance to_mc(mc), to_dc(dc);
-  std::vector<double> dmc, ddc;
-  for (const Vec3d& p : edges) {
-    dmc.push_back(to_mc.distance(p));
-    ddc.push_back(to_dc.distance(p));
-  }
-  const double p90_mc = percentile(dmc, 0.9), p90_dc = percentile(ddc, 0.9);
+  const auto edges = cube.edge_points();
+  const double p90_mc = test::p90_distance(mc, edges), p90_dc = test::p90_distance(dc, edges);
   EXPECT_LE(p90_dc, 0.75 * p90_mc) << "edge distance p90: DC " << p90_dc << " MC " << p90_mc;
-  const double volume = 8 * h * h * h;
-  EXPECT_NEAR(measure_mesh(dc).volume_mm3, volume, 0.005 * volume);
+  EXPECT_NEAR(measure_mesh(dc).volume_mm3, cube.volume(), 0.005 * cube.volume());
   RecordProperty("edge_p90_dc_mm", std::to_string(p90_dc));
   RecordProperty("edge_p90_mc_mm", std::to_string(p90_mc));
 }
@@ -228,13 +179,7 @@ TEST(DualContouring, KeepsTheRimsOfARotatedCylinder) {
     const double a = 2 * std::numbers::pi * s / 200;
     for (double z : {-half, half}) rims.push_back(r * Vec3d{radius * std::cos(a), radius * std::sin(a), z});
   }
-  const MeshDistance to_mc(mc), to_dc(dc);
-  std::vector<double> dmc, ddc;
-  for (const Vec3d& p : rims) {
-    dmc.push_back(to_mc.distance(p));
-    ddc.push_back(to_dc.distance(p));
-  }
-  const double p90_mc = percentile(dmc, 0.9), p90_dc = percentile(ddc, 0.9);
+  const double p90_mc = test::p90_distance(mc, rims), p90_dc = test::p90_distance(dc, rims);
   EXPECT_LE(p90_dc, 0.75 * p90_mc) << "rim distance p90: DC " << p90_dc << " MC " << p90_mc;
   const double volume = std::numbers::pi * radius * radius * 2 * half;
   EXPECT_NEAR(measure_mesh(dc).volume_mm3, volume, 0.005 * volume);
