@@ -103,8 +103,13 @@ int main(int argc, char** argv) {
                 with_phantom ? std::to_string(phantom_rho(phantom, parts, {})).c_str() : "");
   }
   std::vector<Variant> variants{{"dc, defaults", {.iso = 0}}};
-  for (double eps : {0.5, 0.3, 0.2, 0.1, 0.05})
-    variants.push_back({"dc, svd eps " + std::to_string(eps).substr(0, 4), {.iso = 0, .svd_eps = eps}});
+  for (DcHermite hermite : {DcHermite::linear, DcHermite::cubic}) {
+    for (double eps : {0.5, 0.3, 0.2, 0.1}) {
+      variants.push_back({std::string(hermite == DcHermite::cubic ? "dc, cubic" : "dc, linear") +
+                              ", svd eps " + std::to_string(eps).substr(0, 4),
+                          {.iso = 0, .svd_eps = eps, .hermite = hermite}});
+    }
+  }
   for (const Variant& v : variants) {
     std::vector<TriMesh> meshes(cube.size());
     TriMesh sphere;

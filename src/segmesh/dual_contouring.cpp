@@ -42,13 +42,15 @@ template <class T>
 class Extractor {
  public:
   Extractor(const Volume<T>* field, const InsideBits& bits, const Grid& grid, bool binary,
-            const DcOptions& options, Progress& progress, DcNeighbourhoods* solved = nullptr)
+            bool zero_one, const DcOptions& options, Progress& progress,
+            DcNeighbourhoods* solved = nullptr)
       : f_(field),
         grid_(grid),
         binary_(binary && options.tolerance_mm == 0),
         o_(options),
         solve_{grid, options, dc_table(options.connectivity),
-               options.vertex_normals || options.tolerance_mm > 0},
+               options.vertex_normals || options.tolerance_mm > 0,
+               !zero_one && options.hermite == DcHermite::cubic},
         rows_(bits, solve_.table),
         progress_(progress),
         solved_(solved),
@@ -183,6 +185,17 @@ class Extractor {
   std::vector<Qef> qefs_;  // per sheet vertex, kept only for the simplification
 };
 
+// A field of 0s and 1s contoured between them, in any type: a mask, whose Hermite data are edge
+// midpoints (DcHermite applies to grey values only), so a mask meshes the same whatever its type.
+template <class T>
+bool is_zero_one(const Volume<T>& field, double iso) {
+  if (!(iso > 0 && iso < 1)) return false;
+  for (T v : field.voxels) {
+    if (!(v == T(0) || v == T(1))) return false;
+  }
+  return true;
+}
+
 // A 0/1 field contoured between 0 and 1, whose cells the neighbourhood cache may serve.
 template <class T>
 bool is_binary(const Volume<T>& field, double iso) {
@@ -203,7 +216,9 @@ TriMesh dual_contouring(const Volume<T>& field, const DcOptions& options, Progre
   const auto& d = field.grid.dims;
   if (d[0] < 2 || d[1] < 2 || d[2] < 2) return {};
   const InsideBits bits = inside_bits(field, options.iso, progress);
-  return Extractor<T>(&field, bits, field.grid, is_binary(field, options.iso), options, progress)
+  const bool zero_one = options.hermite == DcHermite::linear || is_zero_one(field, options.iso);
+  return Extractor<T>(&field, bits, field.grid, is_binary(field, options.iso), zero_one, options,
+                      progress)
       .run();
 }
 
@@ -213,7 +228,7 @@ TriMesh dual_contouring(const Grid& grid, const Components& components, const Co
   o.iso = 0.5;
   const InsideBits bits = inside_bits(components, component);
   const Grid part_grid = component_grid(grid, component);
-  return Extractor<uint8_t>(nullptr, bits, part_grid, true, o, progress, solved).run();
+  return Extractor<uint8_t>(nullptr, bits, part_grid, true, true, o, progress, solved).run();
 }
 
 template TriMesh dual_contouring(const Volume<uint8_t>&, const DcOptions&, Progress&);

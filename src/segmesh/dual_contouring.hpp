@@ -1,9 +1,10 @@
 // Dual Contouring (Ju, Losasso, Schaefer and Warren 2002) with one vertex per sheet, so every part
 // stays closed and manifold.
 //
-// Hermite data: every sign-changing edge gets its crossing (linear interpolation of the field,
-// edge_intersection.hpp) and the field gradient there (central differences or Sobel, divided by
-// the spacing). Vertices: every sheet of the surface inside a cell (dual_contouring_table.hpp: the
+// Hermite data: every sign-changing edge gets its crossing and the field gradient there, divided
+// by the spacing: on a grey-value field from a Catmull-Rom cubic along the edge and ENO
+// differences (edge_intersection.hpp's cubic_edge_crossing), on a 0/1 field the edge's midpoint
+// and the corners' central differences or Sobel gradients interpolated. Vertices: every sheet of the surface inside a cell (dual_contouring_table.hpp: the
 // pieces of the cell's Marching Cubes surface) gets the minimiser of the QEF of its crossings
 // (qef.hpp), solved about the mass point with singular values below svd_eps * the largest dropped,
 // and kept inside its cell (or, for a cell with several sheets, inside the bounding box of the
@@ -54,11 +55,18 @@ inline constexpr double kDcCellMargin = 0.05;
 // The relative singular value cut-off of the QEF solve (qef.hpp), `--dc-svd-eps`.
 inline constexpr double kDefaultDcSvdEps = 0.5;
 
+// The Hermite data of a grey-value field: linear interpolation of the crossing and of the corners'
+// gradients, or the higher-order interpolation of edge_intersection.hpp (cubic_edge_crossing: a
+// Catmull-Rom crossing, ENO gradients), which keeps sharp edges closer to where they are. 0/1
+// fields (label parts) always take the linear data: their crossings are edge midpoints.
+enum class DcHermite { linear, cubic };
+
 struct DcOptions {
   double iso = 0.5;
   int connectivity = kDefaultConnectivity;       // 6, 18 or 26: which sheets exist (see above)
   NormalMethod normals = NormalMethod::central;  // the Hermite normals
   double svd_eps = kDefaultDcSvdEps;  // singular values below svd_eps * the largest are dropped
+  DcHermite hermite = DcHermite::cubic;  // grey-value fields' Hermite data (above)
   double tolerance_mm = 0;   // > 0: adaptive simplification with this QEF error (RMS distance, mm)
   bool vertex_normals = true;  // false: no normals (smoothing recomputes them); kept when simplifying
 };

@@ -26,6 +26,7 @@ struct SheetSolve {
   const DcOptions& options;
   const DcTable& table;
   bool normals;
+  bool cubic = false;  // cell_hermite takes cubic_edge_crossing (a grey-value field, DcHermite::cubic)
 
   int pieces(int cs) const { return table.cases[static_cast<size_t>(cs)].piece_count; }
 };
@@ -71,9 +72,10 @@ CellHermite cell_hermite(const SheetSolve& s, const Volume<F>& f, int64_t i, int
     const int c0 = kMcEdgeCorner[e][0];
     if ((cs >> c0 & 1) == (cs >> kMcEdgeCorner[e][1] & 1)) continue;
     const int64_t gi = i + (c0 & 1), gj = j + (c0 >> 1 & 1), gk = k + (c0 >> 2);
-    store_crossing(s, h, e, cs,
-                   edge_crossing(f, gi, gj, gk, e / 4, s.options.iso, s.options.normals), i, j,
-                   k);
+    const EdgeCrossing c =
+        s.cubic ? cubic_edge_crossing(f, gi, gj, gk, e / 4, s.options.iso, s.options.normals)
+                : edge_crossing(f, gi, gj, gk, e / 4, s.options.iso, s.options.normals);
+    store_crossing(s, h, e, cs, c, i, j, k);
   }
   return h;
 }
