@@ -91,23 +91,32 @@ int main(int argc, char** argv) {
     parts = find_parts(phantom, {.method = Method::dual_contouring});
   }
   std::printf("| method | first cube p90 mm | / MC | mean / MC | worst / MC | cube volume | cube rho "
-              "| sphere area | sphere volume | phantom rho | ms |\n");
-  std::printf("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+              "| degenerate | sphere area | sphere volume | phantom rho | ms |\n");
+  std::printf("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
   {
     const TriMesh mc = marching_cubes(cube[0].field, {.iso = 0});
     const MeshMeasures s = measure_mesh(marching_cubes(sphere_field, {.iso = 0}));
-    std::printf("| mc | %.3f | 1 | 1 | 1 | %+.3f %% | %.3f | %+.3f %% | %+.3f %% | %s | |\n",
+    std::printf("| mc | %.3f | 1 | 1 | 1 | %+.3f %% | %.3f | | %+.3f %% | %+.3f %% | %s | |\n",
                 cube[0].mc_p90, rel(measure_mesh(mc).volume_mm3, cube[0].shape.volume()),
                 triangle_quality(mc).mean, rel(s.area_mm2, sphere_area),
                 rel(s.volume_mm3, sphere_volume),
                 with_phantom ? std::to_string(phantom_rho(phantom, parts, {})).c_str() : "");
   }
   std::vector<Variant> variants{{"dc, defaults", {.iso = 0}}};
+  // Before issue 39: linear Hermite data, vertices 5 % inside their cells.
+  for (double eps : {0.5, 0.3, 0.2, 0.1}) {
+    variants.push_back({"dc, linear, in cell, svd eps " + std::to_string(eps).substr(0, 4),
+                        {.iso = 0, .svd_eps = eps, .hermite = DcHermite::linear,
+                         .cell_reach = -kDcCellMargin}});
+  }
   for (DcHermite hermite : {DcHermite::linear, DcHermite::cubic}) {
-    for (double eps : {0.5, 0.3, 0.2, 0.1}) {
-      variants.push_back({std::string(hermite == DcHermite::cubic ? "dc, cubic" : "dc, linear") +
-                              ", svd eps " + std::to_string(eps).substr(0, 4),
-                          {.iso = 0, .svd_eps = eps, .hermite = hermite}});
+    for (double reach : {-kDcCellMargin, 0.0, 0.1, 0.25, 0.5}) {
+      for (double eps : {0.5, 0.2}) {
+        char name[96];
+        std::snprintf(name, sizeof name, "dc, %s, reach %+.2f, svd eps %.2f",
+                      hermite == DcHermite::cubic ? "cubic" : "linear", reach, eps);
+        variants.push_back({name, {.iso = 0, .svd_eps = eps, .hermite = hermite, .cell_reach = reach}});
+      }
     }
   }
   for (const Variant& v : variants) {
@@ -121,7 +130,9 @@ int main(int argc, char** argv) {
       ms = std::min(ms, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     }
     double sum = 0, worst = 0, first = 0;
+    int64_t degenerate = measure_mesh(sphere).degenerate_triangles;
     for (size_t c = 0; c < cube.size(); ++c) {
+      degenerate += measure_mesh(meshes[c]).degenerate_triangles;
       const double p90 = test::p90_distance(meshes[c], cube[c].edges);
       if (c == 0) first = p90;
       sum += p90 / cube[c].mc_p90;
@@ -133,10 +144,10 @@ int main(int argc, char** argv) {
       MeshingOptions o{.method = Method::dual_contouring, .dc_svd_eps = v.options.svd_eps};
       rho = std::to_string(phantom_rho(phantom, parts, o));
     }
-    std::printf("| %s | %.3f | %.3f | %.3f | %.3f | %+.3f %% | %.3f | %+.3f %% | %+.3f %% | %s | %.1f |\n",
+    std::printf("| %s | %.3f | %.3f | %.3f | %.3f | %+.3f %% | %.3f | %lld | %+.3f %% | %+.3f %% | %s | %.1f |\n",
                 v.name.c_str(), first, first / cube[0].mc_p90, sum / double(cube.size()), worst,
                 rel(measure_mesh(meshes[0]).volume_mm3, cube[0].shape.volume()),
-                triangle_quality(meshes[0]).mean, rel(s.area_mm2, sphere_area),
+                triangle_quality(meshes[0]).mean, (long long)degenerate, rel(s.area_mm2, sphere_area),
                 rel(s.volume_mm3, sphere_volume), rho.c_str(), ms);
   }
 }

@@ -50,7 +50,8 @@ class Extractor {
         o_(options),
         solve_{grid, options, dc_table(options.connectivity),
                options.vertex_normals || options.tolerance_mm > 0,
-               !zero_one && options.hermite == DcHermite::cubic},
+               !zero_one && options.hermite == DcHermite::cubic,
+               zero_one ? -kDcCellMargin : options.cell_reach},
         rows_(bits, solve_.table),
         progress_(progress),
         solved_(solved),
@@ -216,7 +217,7 @@ TriMesh dual_contouring(const Volume<T>& field, const DcOptions& options, Progre
   const auto& d = field.grid.dims;
   if (d[0] < 2 || d[1] < 2 || d[2] < 2) return {};
   const InsideBits bits = inside_bits(field, options.iso, progress);
-  const bool zero_one = options.hermite == DcHermite::linear || is_zero_one(field, options.iso);
+  const bool zero_one = is_zero_one(field, options.iso);
   return Extractor<T>(&field, bits, field.grid, is_binary(field, options.iso), zero_one, options,
                       progress)
       .run();

@@ -7,8 +7,9 @@
 // and the corners' central differences or Sobel gradients interpolated. Vertices: every sheet of the surface inside a cell (dual_contouring_table.hpp: the
 // pieces of the cell's Marching Cubes surface) gets the minimiser of the QEF of its crossings
 // (qef.hpp), solved about the mass point with singular values below svd_eps * the largest dropped,
-// and kept inside its cell (or, for a cell with several sheets, inside the bounding box of the
-// sheet's crossings) by moving it back towards the mass point. Polygons: every sign-changing edge
+// and kept inside its cell (on a grey-value field, the cell grown by cell_reach; for a cell with
+// several sheets, inside the bounding box of the sheet's crossings) by moving it back towards the
+// mass point. Polygons: every sign-changing edge
 // gets the polygon of the sheets around it — a quad, or a pentagon/hexagon where a cell holds two
 // sheets at that edge — split into triangles along the diagonals that give the best radii ratios,
 // wound counter-clockwise seen from outside.
@@ -52,6 +53,13 @@ namespace segmesh {
 // neighbouring cells never coincide (zero-area triangles).
 inline constexpr double kDcCellMargin = 0.05;
 
+// On a grey-value field a single sheet's QEF vertex may leave its cell by up to this fraction of
+// the cell on each side: where a sharp edge passes near a cell without crossing it, the cell's
+// tangent planes still meet on the edge, and clamping the vertex to its own cell would chamfer it.
+// A 0/1 field's vertices stay kDcCellMargin inside their cells (its tangent planes describe voxel
+// stairs, not features).
+inline constexpr double kDefaultDcCellReach = 0.25;
+
 // The relative singular value cut-off of the QEF solve (qef.hpp), `--dc-svd-eps`.
 inline constexpr double kDefaultDcSvdEps = 0.5;
 
@@ -67,6 +75,7 @@ struct DcOptions {
   NormalMethod normals = NormalMethod::central;  // the Hermite normals
   double svd_eps = kDefaultDcSvdEps;  // singular values below svd_eps * the largest are dropped
   DcHermite hermite = DcHermite::cubic;  // grey-value fields' Hermite data (above)
+  double cell_reach = kDefaultDcCellReach;  // grey-value fields: how far a vertex may leave its cell
   double tolerance_mm = 0;   // > 0: adaptive simplification with this QEF error (RMS distance, mm)
   bool vertex_normals = true;  // false: no normals (smoothing recomputes them); kept when simplifying
 };

@@ -8,19 +8,21 @@ namespace segmesh::dc {
 
 namespace {
 
-// Keeps a QEF solution x inside its cell, shrunk by kDcCellMargin so that vertices of
-// neighbouring cells never coincide (which would make zero-area triangles). With several sheets
-// in the cell, each stays in the box of its own crossings as far as that box reaches into the
-// cell.
+// Keeps a QEF solution x inside its cell grown by `reach` of the cell on each side. On a 0/1 field
+// (reach -kDcCellMargin) the cell is shrunk, so that vertices of neighbouring cells never
+// coincide (which would make zero-area triangles). With several sheets in the cell, each stays in
+// the cell shrunk by kDcCellMargin and in the box of its own crossings as far as that box reaches
+// into it.
 Vec3d keep_in_cell(const Grid& grid, Vec3d x, Vec3d m, Vec3d sheet_lo, Vec3d sheet_hi,
-                   bool several) {
+                   bool several, double reach) {
   const auto& s = grid.spacing;
   double lo[3], hi[3];
   const double slo[3] = {sheet_lo.x, sheet_lo.y, sheet_lo.z},
                shi[3] = {sheet_hi.x, sheet_hi.y, sheet_hi.z};
+  const double r = several ? -kDcCellMargin : reach;
   for (int a = 0; a < 3; ++a) {
-    lo[a] = kDcCellMargin * s[a];
-    hi[a] = (1 - kDcCellMargin) * s[a];
+    lo[a] = -r * s[a];
+    hi[a] = (1 + r) * s[a];
     if (several) {
       const double l = std::max(lo[a], slo[a]), h = std::min(hi[a], shi[a]);
       if (l <= h) lo[a] = l, hi[a] = h;
@@ -78,7 +80,8 @@ CellVertices solve_sheets(const SheetSolve& s, const CellHermite& h, int cs, Qef
     // its mass point, which keeps the sheets apart.
     const Vec3d target =
         dc.piece_count > 1 ? qef.mass_point() : solve_qef(qef, s.options.svd_eps).position;
-    const Vec3d p = keep_in_cell(s.grid, target, qef.mass_point(), lo, hi, dc.piece_count > 1);
+    const Vec3d p =
+        keep_in_cell(s.grid, target, qef.mass_point(), lo, hi, dc.piece_count > 1, s.reach);
     out.offset[piece] = {p.x / sp[0], p.y / sp[1], p.z / sp[2]};
     out.normal_sum[piece] = normal_sum;
     if (qefs) qefs[piece] = qef;

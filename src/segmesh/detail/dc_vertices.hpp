@@ -27,6 +27,9 @@ struct SheetSolve {
   const DcTable& table;
   bool normals;
   bool cubic = false;  // cell_hermite takes cubic_edge_crossing (a grey-value field, DcHermite::cubic)
+  // How far a single sheet's vertex may leave its cell, as a fraction of the cell: a grey-value
+  // field's options.cell_reach, or a 0/1 field's -kDcCellMargin (it stays inside).
+  double reach = -kDcCellMargin;
 
   int pieces(int cs) const { return table.cases[static_cast<size_t>(cs)].piece_count; }
 };
