@@ -34,6 +34,13 @@ std::optional<ColorMode> parse_color_mode(std::string_view name) {
   return std::nullopt;
 }
 
+AoParameters ao_parameters(const RenderOptions& o, double visible_diagonal_mm) {
+  AoParameters a;
+  a.radius_mm = o.ao_radius_mm > 0 ? o.ao_radius_mm : std::clamp(0.06 * visible_diagonal_mm, 2.0, 10.0);
+  a.bias_mm = o.ao_bias_mm > 0 ? o.ao_bias_mm : 0.03 * a.radius_mm;
+  return a;
+}
+
 namespace {
 
 // Throws unless the current context is OpenGL 3.3 or later (before any program is linked).
@@ -100,10 +107,11 @@ struct Renderer::Impl {
     while (samples > 1 && (vp.width * samples > max_size || vp.height * samples > max_size)) {
       --samples;
     }
-    const Frame f = prepare(scene, camera, o, vp.width * samples, vp.height * samples, true);
+    Frame f = prepare(scene, camera, o, vp.width * samples, vp.height * samples, true);
+    f.samples = samples;
 
-    // Linear, premultiplied colour at the internal size.
-    targets.ensure(f.width, f.height);
+    // Linear, premultiplied colour at the internal size; ambient occlusion at the viewport's.
+    targets.ensure(f.width, f.height, samples);
     glViewport(0, 0, f.width, f.height);
     begin_mesh_pass(f);
     const bool ao = o.ambient_occlusion && o.ao_strength > 0 && !f.opaque.empty();

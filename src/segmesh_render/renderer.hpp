@@ -10,8 +10,9 @@
 //
 // What a frame is:
 //   1. (ambient occlusion on) a depth and normal pass of the opaque parts, screen-space ambient
-//      occlusion from it (a normal-oriented hemisphere kernel of 16 samples, rotated per pixel by
-//      a 4x4 noise tile, range-checked) and a depth-aware 4x4 blur;
+//      occlusion from it at the output resolution (24 samples on a spiral over a disc of the
+//      world radius, each occluding by how far it rises above the pixel's tangent plane, fading
+//      out at the radius; rotated per pixel by a 4x4 tile) and a depth-aware 4x4 blur;
 //   2. the opaque parts, shaded physically (metallic-roughness: GGX distribution, height-
 //      correlated Smith visibility, Schlick Fresnel) by two directional lights and a sky
 //      (hemisphere) light; metals reflect an analytic sky (bright above, dark ground below,
@@ -60,7 +61,8 @@ struct ClipPlane {
 struct RenderOptions {
   ColorMode color = ColorMode::material;
   bool ambient_occlusion = true;
-  double ao_radius_mm = 0;    // sampling radius; 0: 2 % of the visible parts' bounding diagonal
+  double ao_radius_mm = 0;    // how far occluders count, world mm; 0: ao_parameters' default
+  double ao_bias_mm = 0;      // height above the tangent plane an occluder must exceed; 0: default
   double ao_strength = 1;     // 0 (none) .. 1 (full)
   std::optional<ClipPlane> clip;
   std::vector<float> opacity;  // per part, by index in Scene::parts; missing entries are 1
@@ -70,6 +72,18 @@ struct RenderOptions {
   Rgb background_top{0.31f, 0.34f, 0.39f};     // sRGB
   Rgb background_bottom{0.09f, 0.10f, 0.12f};  // sRGB
 };
+
+// The ambient occlusion a frame uses, in world millimetres, whatever the picture's size or
+// supersampling (`segmesh render` and the viewer draw the same occlusion for the same view):
+// the radius is options.ao_radius_mm when positive, else 4 % of the visible parts' bounding
+// diagonal clamped to 2..8 mm (a screw head, a fragment's rim, the width of a crease); the bias is
+// options.ao_bias_mm when positive, else 3 % of the radius (it keeps flat open surfaces and the
+// ripple of smoothed voxel surfaces from occluding themselves). docs/RENDERING.md has the
+// measurements behind these numbers.
+struct AoParameters {
+  double radius_mm = 0, bias_mm = 0;
+};
+AoParameters ao_parameters(const RenderOptions& options, double visible_diagonal_mm);
 
 // A rectangle of the target framebuffer, in its pixels, origin at the lower left (OpenGL).
 struct Viewport {

@@ -1,17 +1,17 @@
 #include "segmesh_render/detail/ambient_occlusion.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <utility>
 
-#include "segmesh/vec3.hpp"
 #include "segmesh_render/detail/shaders.hpp"
 #include "segmesh_render/mat4.hpp"
 
 namespace segmesh::render {
 namespace {
 
-// A deterministic generator (xorshift64*) for the ambient occlusion kernel and noise, so every
+// A deterministic generator (xorshift64*) for the ambient occlusion noise tile, so every
 // run draws the same picture.
 struct Random {
   uint64_t state = 0x9E3779B97F4A7C15ull;
@@ -23,6 +23,12 @@ struct Random {
   }
 };
 
+// Scales the obscurance sum (the mean over the samples of falloff^2 * (v.n - bias) / |v|). 6 makes
+// the floor within a third of the radius of a wall as tall as the radius about half occluded; the
+// crease scene's fragment and screw then darken their surroundings by 12 of 255 at the 99th
+// percentile of the picture's object pixels (docs/RENDERING.md).
+constexpr float kIntensity = 6;
+
 }  // namespace
 
 AmbientOcclusion::AmbientOcclusion() {
@@ -31,15 +37,6 @@ AmbientOcclusion::AmbientOcclusion() {
   blur_ = link_program(shaders::fullscreen_vertex, shaders::blur_fragment, "blur");
 
   Random random;
-  for (int i = 0; i < 16; ++i) {
-    // A point in the upper unit hemisphere, denser towards the centre.
-    Vec3d s{random.next() * 2 - 1, random.next() * 2 - 1, random.next() * 0.85 + 0.15};
-    s = normalized(s);
-    double scale = double(i) / 16;
-    scale = 0.1 + 0.9 * scale * scale;
-    s = (scale * (0.5 + 0.5 * random.next())) * s;
-    kernel_[3 * i] = float(s.x), kernel_[3 * i + 1] = float(s.y), kernel_[3 * i + 2] = float(s.z);
-  }
   std::array<float, 32> rotations{};
   for (int i = 0; i < 16; ++i) {
     const double a = 2 * 3.14159265358979 * (i + random.next()) / 16;  // spread over the circle
@@ -78,16 +75,20 @@ void AmbientOcclusion::render(const Frame& f, const SceneTargets& targets,
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CLIP_DISTANCE0);
 
-  // The occlusion.
+  // The occlusion, at the output size.
+  glViewport(0, 0, targets.ao_width, targets.ao_height);
   glBindFramebuffer(GL_FRAMEBUFFER, targets.ao_fbo);
   glUseProgram(ssao_);
   bind_samplers(ssao_,
                 {{"u_depth", targets.depth}, {"u_normal", targets.normal}, {"u_noise", noise_}});
-  set_uniform(ssao_, "u_projection", f.projection);
   set_uniform(ssao_, "u_inverse_projection", f.inverse_projection);
-  glUniform3fv(uniform_location(ssao_, "u_kernel"), 16, kernel_.data());
-  set_uniform(ssao_, "u_radius", float(f.ao_radius));
-  set_uniform(ssao_, "u_size", float(f.width), float(f.height));
+  set_uniform(ssao_, "u_step", f.samples);
+  set_uniform(ssao_, "u_internal_size", float(f.width), float(f.height));
+  set_uniform(ssao_, "u_radius", float(f.ao.radius_mm));
+  set_uniform(ssao_, "u_bias", float(f.ao.bias_mm));
+  // projection[5] = 1 / tan(fov_y / 2): normalised device units per mm at 1 mm from the eye.
+  set_uniform(ssao_, "u_pixels_per_mm", float(f.projection[5] * 0.5 * targets.ao_height));
+  set_uniform(ssao_, "u_intensity", kIntensity);
   triangle.draw(ssao_);
 
   // Its blur.
@@ -95,8 +96,10 @@ void AmbientOcclusion::render(const Frame& f, const SceneTargets& targets,
   glUseProgram(blur_);
   bind_samplers(blur_, {{"u_ao", targets.ao}, {"u_depth", targets.depth}});
   set_uniform(blur_, "u_inverse_projection", f.inverse_projection);
-  set_uniform(blur_, "u_radius", float(f.ao_radius));
+  set_uniform(blur_, "u_step", f.samples);
+  set_uniform(blur_, "u_radius", float(f.ao.radius_mm));
   triangle.draw(blur_);
+  glViewport(0, 0, f.width, f.height);
 }
 
 }  // namespace segmesh::render

@@ -53,7 +53,7 @@ Frame prepare_frame(const Scene& scene, GpuMeshCache& meshes, const Camera& came
       f.clip = {float(n.x), float(n.y), float(n.z), float(-dot(n, o.clip->point))};
     }
   }
-  f.ao_radius = o.ao_radius_mm > 0 ? o.ao_radius_mm : 0.02 * std::max(visible.diagonal(), 1e-3);
+  f.ao = ao_parameters(o, visible.diagonal());
   return f;
 }
 

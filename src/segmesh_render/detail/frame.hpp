@@ -1,6 +1,6 @@
 // Frame: what one frame draws — the visible parts with their matrices, split into opaque and
 // transparent (back to front), the projection, the clipping plane and the ambient occlusion
-// radius — and how a mesh pass draws those parts.
+// radius and bias — and how a mesh pass draws those parts.
 //
 // Why: every pass of a frame (depth and normal prepass, shading, part ids) draws the same parts
 // with the same matrices; preparing them once keeps the passes' depths identical (the shading
@@ -38,10 +38,11 @@ struct DrawItem {
 
 struct Frame {
   int width = 0, height = 0;  // internal (supersampled) pixels
+  int samples = 1;            // supersampling factor per axis: internal pixels per output pixel
   Mat4 view{}, projection{}, inverse_projection{};
   std::array<float, 4> clip{0, 0, 0, 1};  // the plane as the shaders take it (kept where >= 0)
   bool clipped = false;
-  double ao_radius = 1;                       // mm
+  AoParameters ao;                            // world mm (renderer.hpp)
   std::vector<DrawItem> opaque, transparent;  // transparent: back to front
 };
 

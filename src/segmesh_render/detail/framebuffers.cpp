@@ -68,14 +68,15 @@ GLuint make_framebuffer(std::initializer_list<Attachment> colors, Attachment dep
   return fbo;
 }
 
-void SceneTargets::ensure(int w, int h) {
-  if (w == width && h == height) return;
+void SceneTargets::ensure(int w, int h, int samples) {
+  const int aw = w / samples, ah = h / samples;
+  if (w == width && h == height && aw == ao_width && ah == ao_height) return;
   release();
   depth = make_texture(GL_DEPTH_COMPONENT24, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, w, h);
   normal = make_texture(GL_RGBA16F, GL_RGBA, GL_FLOAT, w, h);
   color = make_texture(GL_RGBA16F, GL_RGBA, GL_FLOAT, w, h);
-  ao = make_texture(GL_R8, GL_RED, GL_UNSIGNED_BYTE, w, h);
-  blurred_ao = make_texture(GL_R8, GL_RED, GL_UNSIGNED_BYTE, w, h);
+  ao = make_texture(GL_R16F, GL_RED, GL_FLOAT, aw, ah);
+  blurred_ao = make_texture(GL_R16F, GL_RED, GL_FLOAT, aw, ah);
   glBindTexture(GL_TEXTURE_2D, 0);
   prepass_fbo = make_framebuffer({{.texture = normal}}, {.texture = depth});
   color_fbo = make_framebuffer({{.texture = color}}, {.texture = depth});
@@ -83,12 +84,14 @@ void SceneTargets::ensure(int w, int h) {
   blur_fbo = make_framebuffer({{.texture = blurred_ao}});
   width = w;
   height = h;
+  ao_width = aw;
+  ao_height = ah;
 }
 
 void SceneTargets::release() {
   for (GLuint* f : {&prepass_fbo, &color_fbo, &ao_fbo, &blur_fbo}) delete_framebuffer(*f);
   for (GLuint* t : {&depth, &normal, &color, &ao, &blurred_ao}) delete_texture(*t);
-  width = height = 0;
+  width = height = ao_width = ao_height = 0;
 }
 
 void IdTarget::ensure(int w, int h) {

@@ -34,11 +34,14 @@ struct Attachment {
 // with `depth` as its depth buffer; left bound to GL_FRAMEBUFFER.
 GLuint make_framebuffer(std::initializer_list<Attachment> colors, Attachment depth = {});
 
-// The frame's buffers at the internal (supersampled) size, shared by its passes: the depth and
-// normal prepass (prepass_fbo: normal + depth), ambient occlusion and its blur (ao_fbo, blur_fbo,
-// one channel each), and the shaded colour (color_fbo: linear, premultiplied, on the same depth).
+// The frame's buffers, shared by its passes: at the internal (supersampled) size the depth and
+// normal prepass (prepass_fbo: normal + depth) and the shaded colour (color_fbo: linear,
+// premultiplied, on the same depth); at the output size (internal / samples) ambient occlusion and
+// its blur (ao_fbo, blur_fbo, one channel each), so the occlusion costs the same and looks the same
+// whatever the supersampling.
 struct SceneTargets {
-  int width = 0, height = 0;
+  int width = 0, height = 0;        // internal
+  int ao_width = 0, ao_height = 0;  // output
   GLuint depth = 0, normal = 0, color = 0, ao = 0, blurred_ao = 0;  // textures
   GLuint prepass_fbo = 0, color_fbo = 0, ao_fbo = 0, blur_fbo = 0;
 
@@ -47,7 +50,9 @@ struct SceneTargets {
   SceneTargets(const SceneTargets&) = delete;
   SceneTargets& operator=(const SceneTargets&) = delete;
 
-  void ensure(int w, int h);  // makes the buffers when the size differs from the last one
+  // Makes the buffers for an internal size w x h (multiples of `samples`) when a size differs
+  // from the last one.
+  void ensure(int w, int h, int samples);
   void release();
 };
 

@@ -43,7 +43,8 @@ uniform float u_opacity;
 uniform bool u_vertex_color;   // base colour from the vertex colours (sRGB bytes)
 uniform bool u_clipped;        // back faces are cut surfaces (else: two-sided lighting)
 uniform bool u_use_ao;
-uniform sampler2D u_ao;
+uniform sampler2D u_ao;        // at the output size
+uniform int u_ao_step;         // internal pixels per output pixel
 uniform float u_ao_strength;
 uniform float u_highlight;
 uniform float u_hatch_period;  // pixels
@@ -141,7 +142,7 @@ void main() {
   if (u_use_ao) {
     // Steepened (power 2) so a crease reads clearly while open surfaces (ao near 1) keep
     // their brightness.
-    ao = mix(1.0, pow(texelFetch(u_ao, ivec2(gl_FragCoord.xy), 0).r, 2.0), u_ao_strength);
+    ao = mix(1.0, pow(texelFetch(u_ao, ivec2(gl_FragCoord.xy) / u_ao_step, 0).r, 2.0), u_ao_strength);
   }
 
   vec3 lit = direct(n, v, KEY_DIR, KEY_RADIANCE, diffuse, f0, a) +
@@ -179,57 +180,82 @@ void main() {
 )";
 
 const char* const ssao_fragment = R"(#version 330 core
-uniform sampler2D u_depth;
-uniform sampler2D u_normal;
-uniform sampler2D u_noise;       // 4x4 random rotations in the tangent plane
-uniform mat4 u_projection;
+// Ambient obscurance from the depth buffer in the manner of McGuire et al., "The Alchemy
+// Screen-Space Ambient Obscurance Algorithm" (HPG 2011) and "Scalable Ambient Obscurance"
+// (HPG 2012): points Q of the visible surfaces around the pixel's point P, picked on a spiral over
+// a screen disc that is the world radius at P's depth, occlude by how far they rise above P's
+// tangent plane, (v.n - bias) / |v| with v = Q - P, fading to nothing at the radius. A flat open
+// surface has v.n = 0 everywhere and a convex one v.n < 0: neither occludes itself, whatever the
+// radius; the floor of a crease sees its wall rise and darkens, most at the wall's foot.
+// Runs at the output resolution; reads the prepass at the centre of each output pixel.
+uniform sampler2D u_depth;       // internal size
+uniform sampler2D u_normal;      // view space
+uniform sampler2D u_noise;       // 4x4 (cos, sin) of the spiral's starting angle
 uniform mat4 u_inverse_projection;
-uniform vec3 u_kernel[16];       // hemisphere samples (z up), denser near the centre
+uniform int u_step;              // internal pixels per output pixel (the supersampling)
+uniform vec2 u_internal_size;    // pixels
 uniform float u_radius;          // view-space mm
-uniform vec2 u_size;             // pixels
+uniform float u_bias;            // mm
+uniform float u_pixels_per_mm;   // output pixels per mm at 1 mm from the eye
+uniform float u_intensity;
 layout(location = 0) out float o_ao;
 
-vec3 view_position(vec2 uv, float depth) {
-  vec4 p = u_inverse_projection * vec4(uv * 2.0 - 1.0, depth * 2.0 - 1.0, 1.0);
-  return p.xyz / p.w;
+const int SAMPLES = 24;
+const float TURNS = 7.0;  // coprime with SAMPLES, so no two samples share a direction
+
+// The internal pixel at the centre of output pixel `p`, and the view-space point it shows
+// (w = 0 for the background).
+ivec2 internal_pixel(ivec2 p) {
+  return min(p * u_step + u_step / 2, ivec2(u_internal_size) - 1);
+}
+vec4 view_position(ivec2 p) {
+  ivec2 q = internal_pixel(p);
+  float depth = texelFetch(u_depth, q, 0).r;
+  if (depth >= 1.0) return vec4(0.0);
+  vec4 v = u_inverse_projection * vec4((vec2(q) + 0.5) / u_internal_size * 2.0 - 1.0, depth * 2.0 - 1.0, 1.0);
+  return vec4(v.xyz / v.w, 1.0);
 }
 
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
-  float depth = texelFetch(u_depth, pixel, 0).r;
-  if (depth >= 1.0) { o_ao = 1.0; return; }
-  vec3 p = view_position(gl_FragCoord.xy / u_size, depth);
-  vec3 n = normalize(texelFetch(u_normal, pixel, 0).xyz);
-  vec3 random = vec3(texelFetch(u_noise, pixel % 4, 0).xy, 0.0);
-  vec3 t = random - n * dot(random, n);
-  t = length(t) < 1e-4 ? normalize(cross(n, vec3(0.0, 1.0, 0.0) + 0.01)) : normalize(t);
-  mat3 tbn = mat3(t, cross(n, t), n);
-  float occlusion = 0.0;
-  float bias = 0.02 * u_radius;
-  for (int i = 0; i < 16; ++i) {
-    vec3 s = p + tbn * u_kernel[i] * u_radius;
-    vec4 clip = u_projection * vec4(s, 1.0);
-    vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
-    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) continue;
-    float d = texture(u_depth, uv).r;
-    if (d >= 1.0) continue;  // the background occludes nothing
-    float z = view_position(uv, d).z;
-    float in_range = smoothstep(0.0, 1.0, u_radius / max(abs(p.z - z), 1e-4));
-    occlusion += (z >= s.z + bias ? 1.0 : 0.0) * in_range;
+  vec4 c = view_position(pixel);
+  if (c.w == 0.0) { o_ao = 1.0; return; }
+  vec3 p = c.xyz;
+  vec3 n = normalize(texelFetch(u_normal, internal_pixel(pixel), 0).xyz);
+  float disc = u_pixels_per_mm * u_radius / max(-p.z, 1e-6);  // the radius in pixels
+  if (disc < 1.5) { o_ao = 1.0; return; }  // too small to resolve anything
+  vec2 start = texelFetch(u_noise, pixel % 4, 0).xy;
+  float phi = atan(start.y, start.x);
+  ivec2 size = ivec2(u_internal_size) / u_step;
+  float r2 = u_radius * u_radius;
+  float sum = 0.0;
+  for (int i = 0; i < SAMPLES; ++i) {
+    float a = (float(i) + 0.5) / float(SAMPLES);
+    float angle = a * TURNS * 6.2831853 + phi;
+    ivec2 q = ivec2(floor(vec2(pixel) + 0.5 + a * disc * vec2(cos(angle), sin(angle))));
+    if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)) || q == pixel) continue;
+    vec4 s = view_position(q);
+    if (s.w == 0.0) continue;  // the background occludes nothing
+    vec3 v = s.xyz - p;
+    float vv = dot(v, v);
+    float falloff = max(1.0 - vv / r2, 0.0);
+    sum += falloff * falloff * max(dot(v, n) - u_bias, 0.0) / sqrt(vv + 1e-4 * r2);
   }
-  o_ao = 1.0 - occlusion / 16.0;
+  o_ao = max(0.0, 1.0 - u_intensity * sum / float(SAMPLES));
 }
 )";
 
 const char* const blur_fragment = R"(#version 330 core
-uniform sampler2D u_ao;
-uniform sampler2D u_depth;
+uniform sampler2D u_ao;          // output size
+uniform sampler2D u_depth;       // internal size
 uniform mat4 u_inverse_projection;
+uniform int u_step;              // internal pixels per output pixel
 uniform float u_radius;
 layout(location = 0) out float o_ao;
 
 float view_z(ivec2 pixel) {
-  float d = texelFetch(u_depth, pixel, 0).r;
+  ivec2 q = min(pixel * u_step + u_step / 2, textureSize(u_depth, 0) - 1);
+  float d = texelFetch(u_depth, q, 0).r;
   vec4 p = u_inverse_projection * vec4(0.0, 0.0, d * 2.0 - 1.0, 1.0);
   return p.z / p.w;
 }

@@ -30,6 +30,7 @@ void ShadingPass::render(const Frame& f, const RenderOptions& o, int samples, bo
   glUseProgram(shade_);
   bind_samplers(shade_, {{"u_ao", ao ? targets.blurred_ao : 0}});
   set_uniform(shade_, "u_use_ao", ao ? 1 : 0);
+  set_uniform(shade_, "u_ao_step", samples);
   set_uniform(shade_, "u_ao_strength", float(std::clamp(o.ao_strength, 0.0, 1.0)));
   set_uniform(shade_, "u_clipped", f.clipped ? 1 : 0);
   set_uniform(shade_, "u_hatch_period", float(8 * samples));
