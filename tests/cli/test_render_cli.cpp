@@ -154,6 +154,7 @@ TEST(RenderCli, BadRequestsAreOneLineErrorsAndWriteNothing) {
       {"render " + q(input) + " -o " + q(dir / "x.jpg"), "PNG"},
       {"render " + q(input) + out + " --color rainbow", "--color must be"},
       {"render " + q(input) + out + " --ao maybe", "--ao must be"},
+      {"render " + q(input) + out + " --ao-radius -1", "--ao-radius must be"},
       {"render " + q(input) + out + " --clip 1,2,3,4,5", "--clip expects"},
       {"render " + q(input) + out + " --clip 1,2,3,0,0,0", "must not be zero"},
       {"render " + q(input) + out + " --hide femur", "no part named \"femur\""},
