@@ -159,6 +159,45 @@ TEST(BatchCli, FailedCasesAreIsolatedAndASecondRunSkipsFinishedOnes) {
   EXPECT_TRUE(hidden_entries(out).empty());
 }
 
+// Issue 38's done-when, whole: every label map of ../shared/data (TotalSegmentator, the pelvic
+// fracture masks, the dcmqi NRRDs: sixteen) plus a corrupt and a missing file, with the default
+// options: exactly those two fail (exit code 1), and a second run skips every finished case.
+TEST(BatchCli, EveryLabelMapOfTheSharedDataWithACorruptAndAMissingFile) {
+  SEGMESH_DATA_FILE(data, "totalsegmentator/example_seg.nii.gz");
+  const fs::path root = test::shared_data_dir();
+  std::vector<fs::path> maps = {root / "totalsegmentator" / "example_seg.nii.gz",
+                                root / "totalsegmentator" / "example_seg_dicom.nii.gz"};
+  for (const char* c : {"001", "002", "003"})
+    for (const char* bone : {"LI", "RI", "SA"})
+      maps.push_back(root / "pelvic_fracture" / c / (std::string(c) + "_" + bone + "_mask.nii.gz"));
+  for (const char* name : {"heart_seg", "liver_seg", "liver_spine_seg", "spine_seg", "spine_seg_label5"})
+    maps.push_back(root / "dcmqi" / (std::string(name) + ".nrrd"));
+  for (const fs::path& m : maps) ASSERT_TRUE(fs::exists(m)) << m;
+  const fs::path dir = test::scratch_dir("batch_shared_data");
+  volume_test::write_text(dir / "corrupt.nii.gz", "a NIfTI file in name only\n");
+  std::string inputs;
+  for (const fs::path& m : maps) inputs += shell_quoted(m) + " ";
+  inputs += shell_quoted(dir / "corrupt.nii.gz") + " " + shell_quoted(dir / "missing.nrrd");
+  const fs::path out = dir / "out";
+  for (const char* run : {"first", "second"}) {
+    SCOPED_TRACE(run);
+    const auto r = run_segmesh("batch " + inputs + " -o " + shell_quoted(out) + " --quiet");
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    const std::vector<Row> rows = read_summary(out / "summary.csv");
+    ASSERT_EQ(rows.size(), maps.size() + 2);
+    const std::string done = std::string(run) == "first" ? "ok" : "skipped";
+    for (size_t i = 0; i < maps.size(); ++i) {
+      EXPECT_EQ(rows[i].at("status"), done) << rows[i].at("case") << ": " << rows[i].at("error");
+      EXPECT_GT(std::stol(rows[i].at("parts")), 0) << rows[i].at("case");
+    }
+    EXPECT_EQ(rows[maps.size()].at("case"), "corrupt");
+    EXPECT_EQ(rows[maps.size()].at("status"), "failed");
+    EXPECT_EQ(rows[maps.size() + 1].at("case"), "missing");
+    EXPECT_EQ(rows[maps.size() + 1].at("status"), "failed");
+    EXPECT_TRUE(hidden_entries(out).empty());
+  }
+}
+
 // --shard 1/3, 2/3, 3/3 into one folder: each writes its own summary, and together they take
 // every case exactly once (names are given over the whole list, so "a_seg" and "b_seg" agree).
 TEST(BatchCli, ShardsCoverEveryCaseExactlyOnce) {
