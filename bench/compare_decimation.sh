@@ -9,7 +9,8 @@
 #   3. segmesh_decimation_peers: segmesh (error and budget), meshopt_simplify and
 #      meshopt_simplifySloppy per part, and the VTK folder, all scored against the
 #      undecimated parts with the library's measures.
-#   bench/compare_decimation.sh [BUILD_DIR] [OUT_DIR]
+#   bench/compare_decimation.sh [BUILD_DIR] [OUT_DIR] [LABEL_MAP]
+# LABEL_MAP: any label map instead of the phantom (e.g. a pelvic fracture mask of ../shared/data).
 # Needs the build's segmesh and segmesh_decimation_peers (built when Debian's libmeshoptimizer-dev
 # is installed) and python3-vtk9: scripts/install-deps.sh --with-peers. About two minutes on two
 # cores; run it on a quiet machine.
@@ -24,13 +25,14 @@ peers="$build/bench/segmesh_decimation_peers"
 [[ -x "$peers" ]] || { echo "no $peers: install libmeshoptimizer-dev, reconfigure and build it" >&2; exit 1; }
 py=/usr/bin/python3
 
-[[ -f "$out/phantom.nii.gz" ]] || "$segmesh" phantom -o "$out/phantom.nii.gz" --quiet
+input="${3:-$out/phantom.nii.gz}"
+[[ -n "${3:-}" || -f "$input" ]] || "$segmesh" phantom -o "$input" --quiet
 rm -rf "$out/undecimated" "$out/segmesh_0.2" "$out/vtk"
-"$segmesh" mesh "$out/phantom.nii.gz" -o "$out/undecimated/" --quiet
-"$segmesh" mesh "$out/phantom.nii.gz" -o "$out/segmesh_0.2/" --decimate-error 0.2 --quiet
+"$segmesh" mesh "$input" -o "$out/undecimated/" --quiet
+"$segmesh" mesh "$input" -o "$out/segmesh_0.2/" --decimate-error 0.2 --quiet
 vtk=$($py "$here/vtk_decimate.py" "$out/undecimated" "$out/segmesh_0.2" "$out/vtk")
 echo "vtk_decimate.py: $vtk" >&2
 seconds=$($py -c 'import json, sys; print(json.loads(sys.argv[1])["seconds"])' "$vtk")
-"$peers" "$out/phantom.nii.gz" --peer "vtkQuadricDecimation" "$out/vtk" "$seconds"
+"$peers" "$input" --peer "vtkQuadricDecimation" "$out/vtk" "$seconds"
 echo
 echo "segmesh $(git -C "$repo" rev-parse --short HEAD), $(date -u +%Y-%m-%d), $(nproc) cores, output in $out"
