@@ -84,7 +84,7 @@ constexpr double kSliverTarget = 0.05;
 // them (the original triangles' insides, 0.244 mm for 0.2 asked on the test-size phantom's plate
 // with the full bound) and the decimated triangles' insides (which the quadrics bound only at
 // the vertices) need the rest.
-constexpr double kWitnessShare = 0.85;
+constexpr double kWitnessShare = 0.80;
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kSliver = 0.02;  // decimation.hpp says why not 0.05
