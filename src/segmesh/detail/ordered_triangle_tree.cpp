@@ -111,33 +111,50 @@ void OrderedTriangleTree::test_leaf(Vec3d p, uint64_t leaf, double& best, double
 double OrderedTriangleTree::nearest2(Vec3d p, double bound2, size_t start, double enough2) const {
   double best = bound2;
   const uint64_t first = (uint64_t{1} << levels_) - 1;
-  const uint64_t start_leaf = start == kNoStart ? ~uint64_t{0} : leaf_of(start);
-  if (start != kNoStart) {
-    test_leaf(p, start_leaf, best, enough2);
-    if (best <= enough2) return best;
-  }
   struct Entry {
     uint64_t node;
     double distance2;
   };
   Entry stack[64];
-  int top = 0;
-  stack[top++] = {0, boxes_[0].distance2(p)};
-  while (top > 0) {
-    const Entry e = stack[--top];
-    if (!(e.distance2 < best)) continue;
-    if (e.node >= first) {
-      if (e.node - first != start_leaf) test_leaf(p, e.node - first, best, enough2);
-      if (best <= enough2) return best;
-      continue;
+  // The subtree under `root`, nearer child first, pruned by the best distance so far; true when
+  // a caller asking about enough2 has its answer.
+  auto search = [&](uint64_t root, double root_distance2) {
+    int top = 0;
+    stack[top++] = {root, root_distance2};
+    while (top > 0) {
+      const Entry e = stack[--top];
+      if (!(e.distance2 < best)) continue;
+      if (e.node >= first) {
+        test_leaf(p, e.node - first, best, enough2);
+        if (best <= enough2) return true;
+        continue;
+      }
+      Entry near{2 * e.node + 1, boxes_[2 * e.node + 1].distance2(p)};
+      Entry far{2 * e.node + 2, boxes_[2 * e.node + 2].distance2(p)};
+      if (far.distance2 < near.distance2) std::swap(near, far);
+      // Nearer child on top: it is searched first and usually shrinks the bound that prunes the
+      // other.
+      if (far.distance2 < best) stack[top++] = far;
+      if (near.distance2 < best) stack[top++] = near;
     }
-    Entry near{2 * e.node + 1, boxes_[2 * e.node + 1].distance2(p)};
-    Entry far{2 * e.node + 2, boxes_[2 * e.node + 2].distance2(p)};
-    if (far.distance2 < near.distance2) std::swap(near, far);
-    // Nearer child on top: it is searched first and usually shrinks the bound that prunes the
-    // other.
-    if (far.distance2 < best) stack[top++] = far;
-    if (near.distance2 < best) stack[top++] = near;
+    return false;
+  };
+  if (start == kNoStart) {
+    search(0, boxes_[0].distance2(p));
+    return best;
+  }
+  // From the start leaf up: at every level the sibling subtree, when its box is nearer than the
+  // best distance so far. The closest triangle is usually in or near the start leaf, so most
+  // levels cost one box test, where a walk from the root tests two boxes a level on the way down
+  // and more beside it.
+  uint64_t node = first + leaf_of(start);
+  test_leaf(p, node - first, best, enough2);
+  if (best <= enough2) return best;
+  while (node > 0) {
+    const uint64_t sibling = (node & 1) ? node + 1 : node - 1;
+    const double d2 = boxes_[sibling].distance2(p);
+    if (d2 < best && search(sibling, d2)) return best;
+    node = (node - 1) / 2;
   }
   return best;
 }
