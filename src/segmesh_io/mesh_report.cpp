@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
 
 #include "segmesh_io/atomic_file.hpp"
 
@@ -173,15 +175,37 @@ void write_mesh_report(const std::filesystem::path& path, const Image& image,
                        const Scene& scene, const SceneMeasures& measures,
                        const std::vector<std::string>& outputs) {
   const auto step = std::chrono::steady_clock::now();
-  nlohmann::json json = mesh_report(image, options_json(request), t, stats, scene, measures, outputs);
+  // The timings are the last thing known: the report is put into text with a marker in their
+  // place and its tree freed (with many parts, making the text and freeing the tree take as long
+  // as the rest of the report), then they are.
+  constexpr std::string_view kMarker = "segmesh:timings_ms";
+  nlohmann::json timings;
+  std::string text;
+  {
+    nlohmann::json json = mesh_report(image, options_json(request), t, stats, scene, measures, outputs);
+    timings = std::move(json["timings_ms"]);
+    json["timings_ms"] = kMarker;
+    text = json.dump(2);
+  }
   t.report = ms_since(step);
   // The total as the report is written: everything but the file write and what follows it.
   t.total = ms_since(start);
-  json["timings_ms"]["report"] = t.report;
-  json["timings_ms"]["other"] = t.total - t.steps();
-  json["timings_ms"]["total"] = t.total;
+  timings["report"] = t.report;
+  timings["other"] = t.total - t.steps();
+  timings["total"] = t.total;
+  // At depth one of the two-space indentation.
+  std::string value;
+  for (const char c : timings.dump(2)) {
+    value += c;
+    if (c == '\n') value += "  ";
+  }
+  const std::string quoted = "\"" + std::string(kMarker) + "\"";
+  const size_t at = text.find("\"timings_ms\": " + quoted);
+  if (at != std::string::npos) {
+    text.replace(text.find(quoted, at), quoted.size(), value);
+  }
   AtomicFile file(path);
-  file.stream() << json.dump(2) << '\n';
+  file.stream() << text << '\n';
   file.commit();
 }
 
