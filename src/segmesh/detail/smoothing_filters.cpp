@@ -20,12 +20,39 @@ void Smoother::add_umbrella_to(const F4* d, F4* acc, bool count) const {
   });
 }
 
-void Smoother::add_neighbours_to(const F4* x, F4* acc) const {
-  t_.each_proper([&](uint32_t a, uint32_t b, uint32_t c) {
+namespace {
+
+// acc_i += x_j + x_k for each corner i of triangle (i, j, k).
+auto neighbour_terms(const F4* x, F4* acc) {
+  return [=](uint32_t a, uint32_t b, uint32_t c) {
     const F4 xa = x[a], xb = x[b], xc = x[c];
     acc[a] += xb + xc;
     acc[b] += xa + xc;
     acc[c] += xa + xb;
+  };
+}
+
+}  // namespace
+
+void Smoother::add_neighbours_to(const F4* x, F4* acc) const {
+  t_.each_proper(neighbour_terms(x, acc));
+}
+
+template <class Update>
+void Smoother::add_neighbours_then(const F4* x, F4* acc, const F4* ahead, Update&& update) const {
+  constexpr size_t kAhead = 64;
+  if (topology_) {
+    add_neighbours(x, acc);
+    for_each_vertex(n_, update);
+    return;
+  }
+  t_.each_proper_then(plan_, neighbour_terms(x, acc), [&](size_t v0, size_t v1) {
+    for (size_t i = v0; i != v1; ++i) {
+      __builtin_prefetch(ahead + i + kAhead);
+      __builtin_prefetch(x + i + kAhead);
+      __builtin_prefetch(acc + i + kAhead);
+      update(i);
+    }
   });
 }
 
@@ -142,14 +169,17 @@ double Smoother::sinc(const std::vector<double>& c, F4*& d, F4*& scratch, F4* l0
   double gain = 0;
   for (double x : c) gain += x;
   // The sweeps, last first: sweep k (k = n - 2 .. 1, then the final one) with weight w, scale s.
+  // s is 1 or 1/2, so multiplying by inv_s = 1 / s is exact: the same numbers as dividing by s,
+  // without a division per vertex.
   struct Sweep {
-    float w, s;
+    float w, s, inv_s;
   };
   std::vector<Sweep> sweeps;
-  for (int k = n - 2; k >= 1; --k) sweeps.push_back({static_cast<float>(beta[k + 1]), 1.0f});
-  sweeps.push_back({static_cast<float>(0.5 * beta[1]), 0.5f});
-  auto preset = [&](size_t i, float cnt, F4 x, F4 y, const Sweep& sw) {
-    return (2 * cnt) * x + (2 * cnt / sw.s) * (sw.w * l0[i] - y);
+  for (int k = n - 2; k >= 1; --k) sweeps.push_back({static_cast<float>(beta[k + 1]), 1.0f, 1.0f});
+  sweeps.push_back({static_cast<float>(0.5 * beta[1]), 0.5f, 2.0f});
+  // The accumulator of sweep `sw` at vertex i (count cnt, L0 l): 2 c x + (2 c / s) (w L0 - y).
+  auto preset = [](float cnt, F4 l, F4 x, F4 y, const Sweep& sw) {
+    return (2 * cnt) * x + ((2 * cnt) * sw.inv_s) * (sw.w * l - y);
   };
   // cur = d_{k+1}, prev = d_{k+2}, starting at k = N - 2: d_{N-1} = c_N L0, d_N = 0.
   F4* cur = d;
@@ -157,24 +187,44 @@ double Smoother::sinc(const std::vector<double>& c, F4*& d, F4*& scratch, F4* l0
   const float c_n = n >= 2 ? static_cast<float>(c[n]) : 0.0f;
   ticker_.begin();
   add_umbrella(nullptr, l0, true);
-  for_each_vertex(n_, [&](size_t i) {
-    const float cnt = l0[i][3];
-    const F4 l = half_inverse(cnt) * l0[i];
-    l0[i] = with_w(l, cnt);
-    cur[i] = c_n * l;
-    prev[i] = preset(i, cnt, cur[i], F4{}, sweeps[0]);
-  });
+  {
+    const Sweep first = sweeps[0];
+    F4* const x = cur;
+    F4* const y = prev;
+    for_each_vertex(n_, [=](size_t i) {
+      const float cnt = l0[i][3];
+      const F4 scaled = half_inverse(cnt) * l0[i];
+      const F4 l = with_w(scaled, cnt);
+      l0[i] = l;
+      const F4 xi = c_n * scaled;
+      x[i] = xi;
+      y[i] = preset(cnt, l, xi, F4{}, first);
+    });
+  }
   ticker_.end();
   for (size_t k = 0; k < sweeps.size(); ++k) {
     const bool last = k + 1 == sweeps.size();
     if (!last || n >= 2) ticker_.begin();
-    add_neighbours(cur, prev);
-    for_each_vertex(n_, [&](size_t i) {
-      const float cnt = l0[i][3];
-      const F4 y = (sweeps[k].s * half_inverse(cnt)) * prev[i];
-      prev[i] = y;
-      cur[i] = last ? F4{} : preset(i, cnt, y, cur[i], sweeps[k + 1]);
-    });
+    // The sweep and its vertex pass (on locals: the pointers and constants copied into the task,
+    // so that the stores to the buffers, floats, do not make the compiler reload them).
+    const float s = sweeps[k].s;
+    F4* const x = cur;
+    F4* const acc = prev;
+    if (last) {
+      add_neighbours_then(x, acc, l0, [=](size_t i) {
+        acc[i] = (s * half_inverse(l0[i][3])) * acc[i];
+        x[i] = F4{};
+      });
+    } else {
+      const Sweep next = sweeps[k + 1];
+      add_neighbours_then(x, acc, l0, [=](size_t i) {
+        const F4 l = l0[i];
+        const float cnt = l[3];
+        const F4 y = (s * half_inverse(cnt)) * acc[i];
+        acc[i] = y;
+        x[i] = preset(cnt, l, y, x[i], next);
+      });
+    }
     std::swap(cur, prev);
     if (!last || n >= 2) ticker_.end();
   }

@@ -35,16 +35,21 @@ namespace segmesh {
 // (curve and fixed) vertices' accumulators back afterwards: no per-corner test in the sweep.
 enum class SmoothRole : uint8_t { kSheet, kCurve, kFixed };
 struct SmoothTopology {
-  std::vector<SmoothRole> role;                     // per vertex
+  std::vector<SmoothRole> role;                      // per vertex
   std::vector<std::array<uint32_t, 2>> curve_edges;  // the edges of the junction curves
-  std::vector<uint32_t> pinned;                     // the vertices that are not kSheet
+  std::vector<uint32_t> pinned;                      // the vertices that are not kSheet
 };
 
 class Smoother {
  public:
   Smoother(const Triangles& triangles, const Vec3f* original, size_t n, Ticker& ticker,
            const SmoothTopology* topology = nullptr)
-      : t_(triangles), o_(original), n_(n), ticker_(ticker), topology_(topology) {}
+      : t_(triangles),
+        o_(original),
+        n_(n),
+        ticker_(ticker),
+        topology_(topology),
+        plan_(topology ? FinishPlan{} : finish_plan(triangles.chunks, n)) {}
 
   // Laplacian steps p' = p + f L(p), one per factor: D' = D + f L(o + D). `per_tick` factors
   // make one iteration. d holds D and the counts, scratch is zero; afterwards the same.
@@ -85,6 +90,13 @@ class Smoother {
   // The triangles' terms added to all their corners.
   void add_umbrella_to(const F4* d, F4* acc, bool count) const;
   void add_neighbours_to(const F4* x, F4* acc) const;
+  // add_neighbours, then update(i) for every vertex i: without a topology fused into the scatter,
+  // each vertex updated as soon as its sum is complete (scatter_then_finish, while the chunk's
+  // vertices are in cache); with one after it (the pinned vertices' sums are put right then).
+  // The fused pass prefetches x, acc and `ahead` (the other buffer update reads) 64 vertices on:
+  // on this machine's VM the hardware prefetch left the stream of L0 missing (docs/PERFORMANCE.md).
+  template <class Update>
+  void add_neighbours_then(const F4* x, F4* acc, const F4* ahead, Update&& update) const;
   // With a topology: the pinned vertices' accumulators before a sweep, and put back after it.
   void save_pinned(const F4* acc) const;
   void restore_pinned(F4* acc) const;
@@ -95,6 +107,7 @@ class Smoother {
   Ticker& ticker_;
   const SmoothTopology* topology_;  // nullptr: every vertex averages over its triangles
   mutable std::vector<F4> saved_;   // save_pinned's copy
+  FinishPlan plan_;                 // without a topology: when each vertex's sums are complete
 };
 
 // A filter run on one mesh: the displacements it leaves and where the triangle counts are.

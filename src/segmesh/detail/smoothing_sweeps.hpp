@@ -83,6 +83,21 @@ struct Triangles {
       if (a != b && b != c && c != a) f(a, b, c);
     });
   }
+  // each_proper, then finish(v0, v1) over the vertices as they become complete
+  // (scatter_then_finish; plan = finish_plan(chunks, vertex count)).
+  template <class F, class Finish>
+  void each_proper_then(const FinishPlan& plan, F&& f, Finish&& finish) const {
+    scatter_then_finish(
+        chunks, plan,
+        [&](size_t t0, size_t t1) {
+          for_each_interleaved(t0, t1, [&](size_t t) {
+            __builtin_prefetch(idx + 3 * (t + 32));
+            const uint32_t a = idx[3 * t], b = idx[3 * t + 1], c = idx[3 * t + 2];
+            if (a != b && b != c && c != a) f(a, b, c);
+          });
+        },
+        finish);
+  }
 };
 
 // acc_i += (b - a) x (c - a) for each corner i of every triangle (a, b, c): twice the area

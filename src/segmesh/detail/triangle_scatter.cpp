@@ -67,10 +67,51 @@ TriangleChunks triangle_chunks(const std::vector<uint32_t>& idx, size_t min_tria
   while (ranges.count() >= 3 && !disjoint()) merge_neighbour_chunks(ranges);
   if (ranges.count() >= 3) {
     chunks.first = std::move(ranges.first);
+    chunks.ids = std::move(ranges.ids);
   } else {
     chunks.first.push_back(nt);
   }
   return chunks;
+}
+
+FinishPlan finish_plan(const TriangleChunks& chunks, size_t n) {
+  FinishPlan plan;
+  // Each odd chunk's id range; each even chunk's less the odd ranges (along each parity the
+  // ranges increase and are disjoint, so a walk over the odd ones finds the gaps). Ids at or past
+  // n are cut off.
+  plan.first.push_back(0);
+  const size_t count = chunks.ids.size();  // 0 for a mesh of one chunk: everything is the rest
+  for (size_t c = 0; c < count; ++c) {
+    const size_t lo = chunks.ids[c].first,
+                 end = std::min<size_t>(n, size_t{chunks.ids[c].second} + 1);
+    auto give = [&](size_t a, size_t b) {
+      if (a < b) plan.ranges.push_back({a, b});
+    };
+    if (c % 2 == 1) {
+      give(lo, end);
+    } else {
+      size_t a = lo;
+      for (size_t d = 1; d < count && a < end; d += 2) {
+        const size_t olo = chunks.ids[d].first, oend = size_t{chunks.ids[d].second} + 1;
+        if (oend <= a) continue;
+        if (olo >= end) break;
+        give(a, std::max(a, olo));
+        a = std::max(a, oend);
+      }
+      give(a, end);
+    }
+    plan.first.push_back(plan.ranges.size());
+  }
+  // The rest: the gaps between the ranges given out.
+  std::vector<std::pair<size_t, size_t>> covered = plan.ranges;
+  std::sort(covered.begin(), covered.end());
+  size_t next = 0;
+  for (const auto& [a, b] : covered) {
+    if (next < a) plan.ranges.push_back({next, a});
+    next = std::max(next, b);
+  }
+  if (next < n) plan.ranges.push_back({next, n});
+  return plan;
 }
 
 }  // namespace segmesh

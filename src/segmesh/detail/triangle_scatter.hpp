@@ -14,6 +14,7 @@
 // mesh_adjacency.cpp), then nothing per pass but the tasks.
 #pragma once
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <cstddef>
@@ -43,8 +44,10 @@ ChunkRanges chunk_ranges(const std::vector<uint32_t>& indices, size_t count);
 void merge_neighbour_chunks(ChunkRanges& chunks);
 
 // Chunk c holds triangles [first[c], first[c + 1]); chunks c and c + 2k touch disjoint vertex ids.
+// With three chunks or more, ids[c] is chunk c's smallest and largest vertex id (empty otherwise).
 struct TriangleChunks {
   std::vector<size_t> first{0};
+  std::vector<std::pair<uint32_t, uint32_t>> ids;
   size_t count() const { return first.size() - 1; }
 };
 
@@ -67,6 +70,49 @@ void scatter_triangles(const TriangleChunks& chunks, Body&& body) {
       const size_t c = 2 * h + parity;
       body(chunks.first[c], chunks.first[c + 1]);
     });
+  }
+}
+
+// Which vertices of [0, n) are complete after which chunk of a scatter, for a vertex pass fused
+// into it (scatter_then_finish). A vertex in an odd chunk's id range is touched by no other odd
+// chunk and by even chunks only, which run before: it is complete after its odd chunk. A vertex in
+// an even chunk's range and in no odd chunk's is complete after that even chunk (no other chunk
+// touches it). The others (ids no chunk's range holds; every vertex of a mesh with one chunk) are
+// the rest, finished after the whole scatter. Each vertex is in exactly one range.
+struct FinishPlan {
+  std::vector<size_t> first;  // chunk c finishes ranges [first[c], first[c + 1]); the rest after
+  std::vector<std::pair<size_t, size_t>> ranges;  // half-open vertex id ranges
+};
+FinishPlan finish_plan(const TriangleChunks& chunks, size_t n);
+
+// The scatter of scatter_triangles with a vertex pass fused into it: finish(v0, v1) for every
+// range of `plan` (finish_plan(chunks, n)) in the task of the chunk after which its vertices are
+// complete, right after that chunk's body (its vertices still in cache), and for the rest after
+// the scatter, in parallel. finish may read a vertex's sums and write anything of that vertex
+// (also what body reads at other vertices: no chunk that runs later or alongside touches it).
+// Each vertex gets the same sums, in the same order, as with scatter_triangles then a pass.
+template <class Body, class Finish>
+void scatter_then_finish(const TriangleChunks& chunks, const FinishPlan& plan, Body&& body,
+                         Finish&& finish) {
+  auto run = [&](size_t c) {
+    body(chunks.first[c], chunks.first[c + 1]);
+    if (c + 1 < plan.first.size())
+      for (size_t r = plan.first[c]; r != plan.first[c + 1]; ++r)
+        finish(plan.ranges[r].first, plan.ranges[r].second);
+  };
+  for (size_t parity = 0; parity < 2; ++parity) {
+    const size_t n = (chunks.count() + 1 - parity) / 2;
+    if (n == 1) {
+      run(parity);
+      continue;
+    }
+    tbb::parallel_for(size_t{0}, n, [&](size_t h) { run(2 * h + parity); });
+  }
+  constexpr size_t kGrain = 4096;
+  for (size_t r = plan.first.empty() ? 0 : plan.first.back(); r < plan.ranges.size(); ++r) {
+    const auto [v0, v1] = plan.ranges[r];
+    tbb::parallel_for(tbb::blocked_range<size_t>(v0, v1, kGrain),
+                      [&](const tbb::blocked_range<size_t>& b) { finish(b.begin(), b.end()); });
   }
 }
 

@@ -10,8 +10,8 @@
 #include <random>
 #include <vector>
 
-#include "segmesh/marching_cubes.hpp"
 #include "segmesh/detail/triangle_scatter.hpp"
+#include "segmesh/marching_cubes.hpp"
 #include "support/test_fields.hpp"
 
 namespace segmesh {
@@ -99,6 +99,48 @@ TEST(TriangleScatter, SumsAreCompleteAndTheSameBitsAtAnyThreadCount) {
     const auto [count, sum] = scatter(threads);
     EXPECT_EQ(count, expected) << threads;
     EXPECT_EQ(0, std::memcmp(sum.data(), sum1.data(), nv * sizeof(float))) << threads;
+  }
+}
+
+// A vertex pass fused into the scatter (scatter_then_finish) visits every vertex once, after all
+// its terms, and sees the bits of the plain scatter, ordered ids (many chunks) and shuffled (one).
+TEST(TriangleScatter, FusedPassSeesEveryVertexOnceWithItsCompleteSums) {
+  const TriMesh mesh = random_blobs();
+  const size_t nv = mesh.positions.size() + 5;  // a few ids no triangle uses: the rest
+  std::vector<uint32_t> scattered = mesh.indices;
+  std::vector<uint32_t> perm(mesh.positions.size());
+  std::iota(perm.begin(), perm.end(), 0u);
+  std::shuffle(perm.begin(), perm.end(), std::mt19937(5));
+  for (uint32_t& v : scattered) v = perm[v];
+  const std::vector<uint32_t>& ordered = mesh.indices;
+  for (const std::vector<uint32_t>* idx :
+       {&ordered, static_cast<const std::vector<uint32_t>*>(&scattered)}) {
+    const TriangleChunks chunks = triangle_chunks(*idx, 2048);
+    const FinishPlan plan = finish_plan(chunks, nv);
+    // Ordered ids: the chunks finish their vertices; one chunk: all are the rest.
+    EXPECT_EQ(plan.first.back() > 0, idx == &ordered);
+    auto add = [&](std::vector<float>& sum) {
+      return [&](size_t t0, size_t t1) {
+        for (size_t t = t0; t < t1; ++t)
+          for (int k = 0; k < 3; ++k) sum[(*idx)[3 * t + k]] += 1.0f / float(t + 3);
+      };
+    };
+    std::vector<float> plain(nv, 0.0f);
+    scatter_triangles(chunks, add(plain));
+    for (int threads : {1, 2, 4}) {
+      std::vector<float> sum(nv, 0.0f), seen(nv, -1.0f);
+      std::vector<int> visits(nv, 0);
+      tbb::task_arena(threads).execute([&] {
+        scatter_then_finish(chunks, plan, add(sum), [&](size_t v0, size_t v1) {
+          for (size_t v = v0; v < v1; ++v) {
+            ++visits[v];
+            seen[v] = sum[v];
+          }
+        });
+      });
+      EXPECT_EQ(visits, std::vector<int>(nv, 1)) << threads;
+      EXPECT_EQ(0, std::memcmp(seen.data(), plain.data(), nv * sizeof(float))) << threads;
+    }
   }
 }
 
