@@ -52,38 +52,25 @@ struct Plan {
 
 Plan plan_batch(const BatchArgs& a) {
   Plan plan;
-  plan.out = fs::path(a.output).lexically_normal();
-  if (!plan.out.has_filename()) plan.out = plan.out.parent_path();  // "out/" -> "out"
+  plan.out = cohort_output_folder(a.output);
   if (!a.shard.empty()) plan.shard = parse_shard(a.shard);
-  const std::optional<MeshFormat> format = parse_mesh_format(a.format);
-  if (!format) throw Error("--format must be stl, ply, obj or glb (got \"" + a.format + "\")");
-  if (a.quantize && *format != MeshFormat::glb) {
-    throw Error("--quantize writes glTF's KHR_mesh_quantization; it needs --format glb");
-  }
-  if (a.color != "material" && a.color != "quality") {
-    throw Error("--color must be material or quality (got \"" + a.color + "\")");
-  }
-  if (a.read.max_voxels == 0) throw Error("--max-voxels must be at least 1");
-  limit_threads(a.threads);  // checks the value
-  const MeshingOptions defaults = meshing_request(a.meshing);
-  resolve_meshing_options(defaults);
+  CohortSettings settings{.label_names_file = a.meshing.label_names,
+                          .format = cohort_format(a.format),
+                          .per_part = a.per_part,
+                          .write = {.quantize = a.quantize},
+                          .color = a.color,
+                          .threads = a.threads,
+                          .read = {.max_voxels = a.read.max_voxels,
+                                   .allow_external_data = a.allow_external_data},
+                          .force = a.force};
+  check_cohort_settings(settings);
+  settings.defaults = meshing_request(a.meshing);
+  resolve_meshing_options(settings.defaults);
   const std::vector<CohortCase> cohort = expand_cohort_inputs(a.inputs, plan.out);
   plan.total = cohort.size();
   for (size_t i = 0; i < cohort.size(); ++i) {
     if (!plan.shard.takes(i)) continue;
-    CaseRequest q{.input = cohort[i].input,
-                  .name = cohort[i].name,
-                  .out_dir = plan.out,
-                  .label_names = a.meshing.label_names,
-                  .format = *format,
-                  .per_part = a.per_part,
-                  .write = {.quantize = a.quantize},
-                  .color = a.color,
-                  .threads = a.threads,
-                  .force = a.force};
-    q.options = case_options(defaults, cohort[i], q.label_names);
-    q.read.max_voxels = a.read.max_voxels;
-    q.read.allow_external_data = a.allow_external_data;
+    CaseRequest q = case_request(cohort[i], plan.out, settings);
     const std::string name = q.name;
     q.read.warn = [name](const std::string& message) {
       std::fprintf(stderr, "segmesh: warning: %s: %s\n", name.c_str(), message.c_str());

@@ -24,43 +24,18 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// What every case of a run shares: `segmesh batch`'s options other than the inputs, OUT and the
-// shard, as the Python side passes them (a dict, so that the names stay in one place there).
-struct CaseSettings {
-  MeshFormat format = MeshFormat::glb;
-  bool per_part = false;
-  bool quantize = false;
-  std::string color = "material";
-  int threads = 0;
-  uint64_t max_voxels = 0;
-  bool allow_external_data = false;
-  bool force = false;
-  MeshingOptions defaults;  // the keyword options and label names, a request (not resolved)
-  std::string label_names_file;
-};
-
-// Checked as `segmesh batch` checks its command line, before any case runs.
-CaseSettings settings_from(const py::dict& s) {
-  CaseSettings c;
-  const std::string format = s["format"].cast<std::string>();
-  const std::optional<MeshFormat> parsed = parse_mesh_format(format);
-  if (!parsed) throw Error("--format must be stl, ply, obj or glb (got \"" + format + "\")");
-  c.format = *parsed;
-  c.per_part = s["per_part"].cast<bool>();
-  c.quantize = s["quantize"].cast<bool>();
-  if (c.quantize && c.format != MeshFormat::glb) {
-    throw Error("--quantize writes glTF's KHR_mesh_quantization; it needs --format glb");
-  }
-  c.color = s["color"].cast<std::string>();
-  if (c.color != "material" && c.color != "quality") {
-    throw Error("--color must be material or quality (got \"" + c.color + "\")");
-  }
-  c.threads = s["threads"].cast<int>();
-  if (c.threads < 0) throw Error("--threads must be 0 (all cores) or more");
-  c.max_voxels = s["max_voxels"].cast<uint64_t>();
-  if (c.max_voxels == 0) throw Error("--max-voxels must be at least 1");
-  c.allow_external_data = s["allow_external_data"].cast<bool>();
-  c.force = s["force"].cast<bool>();
+// The settings every case of a run shares, as the Python side passes them (a dict, so that the
+// names stay in one place there), checked as `segmesh batch` checks its command line.
+CohortSettings settings_from(const py::dict& s) {
+  CohortSettings c{.format = cohort_format(s["format"].cast<std::string>()),
+                   .per_part = s["per_part"].cast<bool>(),
+                   .write = {.quantize = s["quantize"].cast<bool>()},
+                   .color = s["color"].cast<std::string>(),
+                   .threads = s["threads"].cast<int>(),
+                   .read = {.max_voxels = s["max_voxels"].cast<uint64_t>(),
+                            .allow_external_data = s["allow_external_data"].cast<bool>()},
+                   .force = s["force"].cast<bool>()};
+  check_cohort_settings(c);
   c.defaults = options_from_kwargs(s["options"].cast<py::dict>());
   const py::object names = s["label_names"];
   c.defaults.label_names = label_names_from(names);  // checks it
@@ -107,38 +82,13 @@ CohortCase case_from(const py::object& input, const py::object& name) {
   return c;
 }
 
-// The case's request: the settings, then its manifest cells (case_options), as `segmesh batch`.
-CaseRequest case_request(const CohortCase& c, const fs::path& out_dir, const CaseSettings& s) {
-  CaseRequest q{.input = c.input,
-                .name = c.name,
-                .out_dir = out_dir,
-                .label_names = s.label_names_file,
-                .format = s.format,
-                .per_part = s.per_part,
-                .write = {.quantize = s.quantize},
-                .color = s.color,
-                .threads = s.threads,
-                .force = s.force};
-  q.options = case_options(s.defaults, c, q.label_names);
-  q.read.max_voxels = s.max_voxels;
-  q.read.allow_external_data = s.allow_external_data;
-  return q;
-}
-
-// OUT as `segmesh batch` takes it: normalised, without a trailing "/".
-fs::path output_folder(const fs::path& out) {
-  fs::path p = out.lexically_normal();
-  if (!p.has_filename()) p = p.parent_path();
-  return p;
-}
-
 // The cases of `inputs` this run takes (the shard's), every one's options checked; nothing is
 // written. {"cases": [case dicts], "total": cases in the whole cohort, "out_dir": OUT}.
 py::dict cohort(const std::vector<std::string>& inputs, const fs::path& out_dir,
                 const std::string& shard_text, const py::dict& settings) {
   const Shard shard = shard_text.empty() ? Shard{} : parse_shard(shard_text);
-  const CaseSettings s = settings_from(settings);
-  const fs::path out = output_folder(out_dir);
+  const CohortSettings s = settings_from(settings);
+  const fs::path out = cohort_output_folder(out_dir);
   std::vector<CohortCase> cases;
   {
     py::gil_scoped_release release;
@@ -193,9 +143,9 @@ CaseResult row_from(const py::handle& row) {
 // One case (run_case) with the GIL released; the reader's warnings come back in "warnings".
 py::dict run_case_py(const py::object& input, const fs::path& out_dir, const py::object& name,
                      const py::dict& settings, const py::object& callback) {
-  const CaseSettings s = settings_from(settings);
+  const CohortSettings s = settings_from(settings);
   const CohortCase c = case_from(input, name);
-  const fs::path out = output_folder(out_dir);
+  const fs::path out = cohort_output_folder(out_dir);
   CaseRequest q = case_request(c, out, s);
   std::mutex mutex;
   std::vector<std::string> warnings;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <string_view>
 #include <set>
 #include <system_error>
@@ -257,6 +258,45 @@ MeshingOptions case_options(const MeshingOptions& defaults, const CohortCase& c,
     throw Error(c.origin.empty() ? std::string(e.what()) : c.origin + ": " + e.what());
   }
   return options;
+}
+
+MeshFormat cohort_format(const std::string& name) {
+  const std::optional<MeshFormat> format = parse_mesh_format(name);
+  if (!format) throw Error("--format must be stl, ply, obj or glb (got \"" + name + "\")");
+  return *format;
+}
+
+void check_cohort_settings(const CohortSettings& s) {
+  if (s.write.quantize && s.format != MeshFormat::glb) {
+    throw Error("--quantize writes glTF's KHR_mesh_quantization; it needs --format glb");
+  }
+  if (s.color != "material" && s.color != "quality") {
+    throw Error("--color must be material or quality (got \"" + s.color + "\")");
+  }
+  if (s.threads < 0) throw Error("--threads must be 0 (all cores) or more");
+  if (s.read.max_voxels == 0) throw Error("--max-voxels must be at least 1");
+}
+
+fs::path cohort_output_folder(const fs::path& output) {
+  fs::path out = output.lexically_normal();
+  if (!out.has_filename()) out = out.parent_path();  // "out/" -> "out"
+  return out;
+}
+
+CaseRequest case_request(const CohortCase& c, const fs::path& out_dir, const CohortSettings& s) {
+  CaseRequest q{.input = c.input,
+                .name = c.name,
+                .out_dir = out_dir,
+                .label_names = s.label_names_file,
+                .format = s.format,
+                .per_part = s.per_part,
+                .write = s.write,
+                .color = s.color,
+                .threads = s.threads,
+                .read = s.read,
+                .force = s.force};
+  q.options = case_options(s.defaults, c, q.label_names);
+  return q;
 }
 
 Shard parse_shard(std::string_view text) {

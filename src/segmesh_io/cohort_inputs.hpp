@@ -33,6 +33,8 @@
 #include <vector>
 
 #include "segmesh/meshing_options.hpp"
+#include "segmesh_io/case_runner.hpp"
+#include "segmesh_io/mesh_format.hpp"
 
 namespace segmesh {
 
@@ -55,6 +57,33 @@ std::vector<CohortCase> expand_cohort_inputs(const std::vector<std::string>& inp
 // (relative to the manifest's folder) and its path stored in `label_names_file`.
 MeshingOptions case_options(const MeshingOptions& defaults, const CohortCase& c,
                             std::string& label_names_file);
+
+// What every case of a cohort run shares: `segmesh batch`'s options other than the inputs, OUT
+// and the shard (the Python runner's settings, the same).
+struct CohortSettings {
+  MeshingOptions defaults;       // a request; each case's manifest cells go on top (case_options)
+  std::string label_names_file;  // the file defaults.label_names came from, for the report
+  MeshFormat format = MeshFormat::glb;
+  bool per_part = false;
+  MeshWriteOptions write;
+  std::string color = "material";
+  int threads = 0;
+  ReadOptions read{.allow_external_data = false};  // external data only when asked for
+  bool force = false;
+};
+
+// The settings' format from its name ("--format"); throws segmesh::Error otherwise.
+MeshFormat cohort_format(const std::string& name);
+// Checks the settings as `segmesh batch` states them, before any case runs: --quantize only
+// with glb, --color material or quality, --threads not negative, --max-voxels at least 1.
+// Throws segmesh::Error.
+void check_cohort_settings(const CohortSettings& settings);
+// OUT as a cohort run takes it: normalised, without a trailing "/".
+std::filesystem::path cohort_output_folder(const std::filesystem::path& output);
+// The case's request: the settings, then its own manifest cells (case_options, which checks
+// them: segmesh::Error naming the manifest line).
+CaseRequest case_request(const CohortCase& c, const std::filesystem::path& out_dir,
+                         const CohortSettings& settings);
 
 // `--shard I/N`: this run takes the cases whose index (0-based, in input order) modulo N is
 // I - 1, so shards 1..N together take every case exactly once.
