@@ -78,8 +78,6 @@ class CostBuckets {
 constexpr double kFlipToleranceShare = 0.25;
 // Rounds of one flip pass and one relaxation pass after the collapses, until neither changes.
 constexpr int kImproveRounds = 4;
-// A sliver, as the issue counts them: radii ratio below this.
-constexpr double kSliverTarget = 0.05;
 // The witnesses keep the original vertices within this share of error_mm: the points between
 // them (the original triangles' insides, 0.244 mm for 0.2 asked on the test-size phantom's plate
 // with the full bound) and the decimated triangles' insides (which the quadrics bound only at
@@ -144,13 +142,13 @@ class Collapser {
     return stats;
   }
 
-  // Collapses that remove a sliver (radii ratio below kSliverTarget), out of the cost order: the
+  // Collapses that remove a sliver (radii ratio below kDecimationSliverRho), out of the cost order: the
   // edges of each sliver, shortest first, when the roles allow a collapse whose cost stays within
   // `bound` and every check of the collapse loop passes. Returns the collapses made.
   int64_t sliver_pass(double bound, double limit2) {
     int64_t made = 0;
     for (uint32_t t = 0; t < m_.alive_tri.size(); ++t) {
-      if (!m_.alive_tri[t] || m_.rho(t) >= kSliverTarget) continue;
+      if (!m_.alive_tri[t] || m_.rho(t) >= kDecimationSliverRho) continue;
       const uint32_t* i = &m_.s.mesh.indices[3 * size_t(t)];
       std::array<std::pair<double, int>, 3> edges;
       for (int k = 0; k < 3; ++k) edges[size_t(k)] = {norm(m_.pos[i[(k + 1) % 3]] - m_.pos[i[k]]), k};

@@ -28,6 +28,9 @@ namespace segmesh {
 
 // No triangle may turn by more than 60 degrees in a collapse or a flip.
 inline constexpr double kDecimationMaxTurnCos = 0.5;
+// A sliver, as issue 36 counts them: radii ratio below this. The sliver pass collapses them; a
+// flip that removes one may use more of the bound.
+inline constexpr double kDecimationSliverRho = 0.05;
 
 // Lists of vertex or triangle ids for the checks, reused: a check allocates nothing once the
 // lists have grown (the allocations of fresh lists were a fifth of the decimation's time).

@@ -14,11 +14,6 @@ constexpr double kRelaxTurnCos = 0.8660254037844387;  // 30 degrees
 // Relaxation takes a move that makes the mean radii ratio around the vertex better if the worst
 // stays at least this (or where it was), besides any move that makes the worst better.
 constexpr double kRelaxKeepWorst = 0.3;
-// A sliver, as issue 36 counts them (decimation.cpp's kSliverTarget).
-constexpr double kSliverRho = 0.05;
-}  // namespace
-
-namespace {
 
 // The quad across edge (a, b) of live triangle t1 (a -> b in t1's winding): the other triangle
 // on it, of the same interface, and its corner d off the edge; nullopt when the edge has another
@@ -27,7 +22,7 @@ struct Quad {
   uint32_t t2, d;
   bool turned;  // t2's sides are t1's the other way round (it holds a -> b)
 };
-std::optional<Quad> quad_across(DecimationMesh& m, uint32_t t1, uint32_t a, uint32_t b, uint32_t c) {
+std::optional<Quad> quad_across(const DecimationMesh& m, uint32_t t1, uint32_t a, uint32_t b, uint32_t c) {
   uint32_t t2 = ~0u;
   int on_edge = 0;
   m.for_edge_triangles(a, b, [&](uint32_t t) {
@@ -97,7 +92,7 @@ int64_t flip_pass(DecimationMesh& m, double tolerance, double bound, double limi
       // A flip that removes a sliver may move the surface by what the bound leaves above the
       // quad's corners' own errors (their quadrics), when that is more than `tolerance`.
       double allowed = tolerance;
-      if (before < kSliverRho && height > tolerance) {
+      if (before < kDecimationSliverRho && height > tolerance) {
         double local = 0;
         for (uint32_t x : {a, b, c, d}) local = std::max(local, cost_mm(m.quadric[x], m.pos[x]));
         allowed = std::max(tolerance, bound - local);
