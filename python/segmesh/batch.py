@@ -26,9 +26,7 @@ import time
 import uuid
 
 import segmesh
-from segmesh.cases import _run_task
-
-_MAX_VOXELS = 2_000_000_000
+from segmesh.cases import _MAX_VOXELS, _run_task
 
 
 def _parser():
