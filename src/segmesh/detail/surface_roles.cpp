@@ -1,11 +1,10 @@
 #include "segmesh/detail/surface_roles.hpp"
 
 #include <tbb/blocked_range.h>
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <atomic>
 
 #include "segmesh/detail/triangle_scatter.hpp"
 
@@ -50,25 +49,44 @@ SurfaceRoles surface_roles(const LabelledSurface& s, InterfaceSides kind) {
     uint32_t a, b;
     uint64_t key;
   };
-  tbb::enumerable_thread_specific<std::vector<EdgeSide>> found;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, s.sides.size(), size_t{1} << 13),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      auto& out = found.local();
-                      for (size_t t = r.begin(); t != r.end(); ++t) {
-                        const uint32_t* x = idx + 3 * t;
-                        for (int c = 0; c < 3; ++c) {
-                          const uint32_t a = x[c], b = x[(c + 1) % 3];
-                          if (a != b && several[a] && several[b])
-                            out.push_back(
-                                {std::min(a, b), std::max(a, b), pair_key(s.sides[t], kind)});
+  // Grouped by the lower vertex by a counting sort (on a map of random labels nearly every
+  // vertex is on several interfaces, and a comparison sort of the 2.4 M edge sides took 0.3 s of
+  // CPU): counted and placed in parallel passes over the triangles, in whatever order the
+  // threads meet them, then each vertex's few sorted by (b, key), which makes the order exact.
+  auto for_each_edge = [&](auto&& visit) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, s.sides.size(), size_t{1} << 13),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                        for (size_t t = r.begin(); t != r.end(); ++t) {
+                          const uint32_t* x = idx + 3 * t;
+                          for (int c = 0; c < 3; ++c) {
+                            const uint32_t a = x[c], b = x[(c + 1) % 3];
+                            if (a != b && several[a] && several[b])
+                              visit(std::min(a, b), std::max(a, b), t);
+                          }
                         }
-                      }
-                    });
-  std::vector<EdgeSide> edges;
-  for (const auto& part : found) edges.insert(edges.end(), part.begin(), part.end());
-  tbb::parallel_sort(edges.begin(), edges.end(), [](const EdgeSide& p, const EdgeSide& q) {
-    return p.a != q.a ? p.a < q.a : p.b != q.b ? p.b < q.b : p.key < q.key;
+                      });
+  };
+  std::vector<uint32_t> start(nv + 1, 0);
+  for_each_edge([&](uint32_t a, uint32_t, size_t) {
+    std::atomic_ref<uint32_t>(start[a + 1]).fetch_add(1, std::memory_order_relaxed);
   });
+  for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<EdgeSide> edges(start[nv]);
+  {
+    std::vector<uint32_t> at(start.begin(), start.end() - 1);
+    for_each_edge([&](uint32_t a, uint32_t b, size_t t) {
+      const uint32_t i = std::atomic_ref<uint32_t>(at[a]).fetch_add(1, std::memory_order_relaxed);
+      edges[i] = {a, b, pair_key(s.sides[t], kind)};
+    });
+  }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, nv, size_t{1} << 14),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t v = r.begin(); v != r.end(); ++v)
+                        std::sort(edges.begin() + start[v], edges.begin() + start[v + 1],
+                                  [](const EdgeSide& p, const EdgeSide& q) {
+                                    return p.b != q.b ? p.b < q.b : p.key < q.key;
+                                  });
+                    });
   SurfaceRoles out;
   std::vector<uint32_t> curve_degree(nv, 0);
   for (size_t i = 0; i < edges.size();) {
