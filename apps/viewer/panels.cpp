@@ -159,6 +159,15 @@ void ViewerApp::draw_display_section() {
   ImGui::RadioButton("triangle quality", &mode, 1);
   color_ = mode == 0 ? render::ColorMode::material : render::ColorMode::quality;
   ImGui::Checkbox("ambient occlusion (SSAO)", &ambient_occlusion_);
+  if (ambient_occlusion_) {
+    // The same parameter as `segmesh render --ao-radius`: 0 is the automatic radius.
+    ImGui::InputDouble("occlusion radius (mm)", &ao_radius_mm_, 0.5, 2.0, "%.1f");
+    if (!(ao_radius_mm_ >= 0)) ao_radius_mm_ = 0;  // negative or not a number: automatic
+    ao_radius_mm_ = std::min(ao_radius_mm_, 100.0);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("how far occluders count; 0: automatic (6 %% of the visible parts' "
+                        "diagonal, 2 to 10 mm)");
+  }
   ImGui::Checkbox("clipping plane", &clip_.enabled);
   if (clip_.enabled) {
     const char* axes[] = {"x (left-right)", "y (front-back)", "z (up-down)"};

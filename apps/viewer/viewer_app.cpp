@@ -123,6 +123,7 @@ render::RenderOptions ViewerApp::render_options() const {
   render::RenderOptions o;
   o.color = color_;
   o.ambient_occlusion = ambient_occlusion_;
+  o.ao_radius_mm = ao_radius_mm_;
   o.clip = viewer::clip_plane(clip_, state_.scene);
   o.opacity = viewer::render_opacity(state_);
   o.selected = state_.selected;

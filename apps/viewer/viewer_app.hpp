@@ -87,6 +87,7 @@ class ViewerApp {
   render::Camera camera_;
   render::ColorMode color_ = render::ColorMode::material;
   bool ambient_occlusion_ = true;
+  double ao_radius_mm_ = 0;  // 0: automatic (render::ao_parameters)
   FileDialog dialog_;
 
   bool fit_on_load_ = true;        // the next loaded scene is framed (iso view the first time)

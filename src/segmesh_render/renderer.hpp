@@ -75,8 +75,8 @@ struct RenderOptions {
 
 // The ambient occlusion a frame uses, in world millimetres, whatever the picture's size or
 // supersampling (`segmesh render` and the viewer draw the same occlusion for the same view):
-// the radius is options.ao_radius_mm when positive, else 4 % of the visible parts' bounding
-// diagonal clamped to 2..8 mm (a screw head, a fragment's rim, the width of a crease); the bias is
+// the radius is options.ao_radius_mm when positive, else 6 % of the visible parts' bounding
+// diagonal clamped to 2..10 mm (a screw head, a fragment's rim, the width of a crease); the bias is
 // options.ao_bias_mm when positive, else 3 % of the radius (it keeps flat open surfaces and the
 // ripple of smoothed voxel surfaces from occluding themselves). docs/RENDERING.md has the
 // measurements behind these numbers.
