@@ -1,6 +1,5 @@
 #include "segmesh_io/dicom_series.hpp"
 
-#include <gdcmTrace.h>
 #include <itkGDCMImageIO.h>
 #include <itkMetaDataObject.h>
 
@@ -16,6 +15,7 @@
 #include <vector>
 
 #include "segmesh_io/detail/dicom_file_check.hpp"
+#include "segmesh_io/detail/dicom_geometry.hpp"
 #include "segmesh_io/detail/text.hpp"
 #include "segmesh_io/detail/volume_checks.hpp"
 #include "segmesh_io/detail/volume_itk.hpp"
@@ -47,34 +47,6 @@ std::optional<std::string> tag(const itk::MetaDataDictionary& dictionary, const 
   return first == std::string::npos ? std::string() : value.substr(first, last - first + 1);
 }
 
-// "a\b\c" as N numbers, or nullopt.
-template <size_t N>
-std::optional<std::array<double, N>> numbers(const std::optional<std::string>& text) {
-  if (!text) return std::nullopt;
-  std::array<double, N> values{};
-  std::string item;
-  std::istringstream items(*text);
-  for (size_t i = 0; i < N; ++i) {
-    if (!std::getline(items, item, '\\')) return std::nullopt;
-    char* end = nullptr;
-    values[i] = std::strtod(item.c_str(), &end);
-    if (end == item.c_str() || !std::isfinite(values[i])) return std::nullopt;
-  }
-  return values;
-}
-
-Vec3d row_direction(const std::array<double, 6>& o) {
-  return {o[0], o[1], o[2]};
-}
-Vec3d column_direction(const std::array<double, 6>& o) {
-  return {o[3], o[4], o[5]};
-}
-Vec3d normal_of(const std::array<double, 6>& o) {
-  const Vec3d n = cross(row_direction(o), column_direction(o));
-  const double length = norm(n);
-  return length > 0 ? (1.0 / length) * n : n;
-}
-
 std::string number_text(double value) {
   std::ostringstream text;
   text.precision(4);
@@ -87,17 +59,6 @@ bool has_dicom_extension(const fs::path& file) {
   return ext == ".dcm" || ext == ".dicom" || ext == ".ima";
 }
 
-// GDCM reports what it dislikes on stderr, several lines at a time; segmesh gives one line
-// (warnings through ReadOptions::warn, errors as Error). Switched off once, before GDCM is used.
-void silence_gdcm() {
-  static const bool done = [] {
-    gdcm::Trace::WarningOff();
-    gdcm::Trace::DebugOff();
-    gdcm::Trace::ErrorOff();
-    return true;
-  }();
-  (void)done;
-}
 
 // Pass 1: what each file is, from its header. Non-images are skipped with a warning.
 std::vector<Slice> scan_folder(const fs::path& folder, const ReadOptions& options) {
@@ -152,8 +113,7 @@ std::vector<Slice> scan_folder(const fs::path& folder, const ReadOptions& option
     if (io->GetNumberOfDimensions() > 2 && io->GetDimensions(2) > 1) {
       warn(options, folder,
            "skipping " + name +
-               ": multi-frame DICOM objects (DICOM SEG, "
-               "enhanced CT) are not supported");
+               ": a multi-frame object (a DICOM SEG is read on its own: give its file)");
       continue;
     }
     const auto& dictionary = io->GetMetaDataDictionary();
@@ -162,8 +122,8 @@ std::vector<Slice> scan_folder(const fs::path& folder, const ReadOptions& option
     slice.series_uid = tag(dictionary, "0020|000e").value_or("");
     slice.columns = static_cast<int64_t>(io->GetDimensions(0));
     slice.rows = static_cast<int64_t>(io->GetDimensions(1));
-    slice.orientation = numbers<6>(tag(dictionary, "0020|0037"));
-    slice.position = numbers<3>(tag(dictionary, "0020|0032"));
+    slice.orientation = dicom_numbers<6>(tag(dictionary, "0020|0037"));
+    slice.position = dicom_numbers<3>(tag(dictionary, "0020|0032"));
     slices.push_back(std::move(slice));
   }
   return slices;
@@ -302,18 +262,10 @@ Image read_dicom_series(const fs::path& folder, const ReadOptions& options) {
   slices = choose_series(folder, std::move(slices), options);
   const double slice_spacing = order_slices(folder, slices, options);
 
-  const std::array<double, 6>& orientation = *slices.front().orientation;
-  const Vec3d columns[3] = {row_direction(orientation), column_direction(orientation),
-                            normal_of(orientation)};
   Grid grid;
   grid.dims = {slices.front().columns, slices.front().rows, int64_t(slices.size())};
   check_voxel_limit(folder, grid.dims, options.max_voxels);
-  for (int c = 0; c < 3; ++c) {
-    const double length = norm(columns[c]);
-    grid.direction[c] = columns[c].x / length;
-    grid.direction[3 + c] = columns[c].y / length;
-    grid.direction[6 + c] = columns[c].z / length;
-  }
+  set_slice_directions(grid, *slices.front().orientation);
   const auto& origin = *slices.front().position;
   grid.origin = {origin[0], origin[1], origin[2]};
 

@@ -4,7 +4,8 @@
 // ITK's GDCMImageIO reads each file (header, then pixels with the rescale slope/intercept
 // applied). The series is assembled here:
 // - Files that are not DICOM images are skipped with a warning (options.warn), as are
-//   multi-frame objects (DICOM SEG, enhanced CT). Subfolders are not searched.
+//   multi-frame objects (enhanced CT; a DICOM SEG is read on its own by dicom_seg_reader.hpp).
+//   Subfolders are not searched.
 // - Slices are grouped by series (SeriesInstanceUID, image size and orientation); when there are
 //   several, the one with most slices is read and a warning names the others.
 // - Slices are ordered by their position along the slice normal (ImagePositionPatient projected

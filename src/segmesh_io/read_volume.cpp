@@ -8,6 +8,7 @@
 
 #include "segmesh_io/detail/text.hpp"
 #include "segmesh_io/detail/volume_checks.hpp"
+#include "segmesh_io/dicom_seg_reader.hpp"
 #include "segmesh_io/dicom_series.hpp"
 #include "segmesh_io/metaimage_reader.hpp"
 #include "segmesh_io/mrc_reader.hpp"
@@ -21,7 +22,7 @@ using volume_io::file_error;
 
 namespace {
 
-enum class Format { nifti, nrrd, metaimage, mrc, dicom, unknown };
+enum class Format { nifti, nrrd, metaimage, mrc, dicom, dicom_file, unknown };
 
 // The extensions read_volume reads, a longer one before any it ends with.
 struct Suffix {
@@ -39,8 +40,17 @@ Format format_of(const fs::path& path) {
   for (const Suffix& s : kSuffixes) {
     if (name.ends_with(s.text)) return s.format;
   }
-  if (name.ends_with(".dcm")) {
-    throw file_error(path, "is a single DICOM file; give the folder that holds the whole series");
+  if (name.ends_with(".dcm") || name.ends_with(".dicom") || name.ends_with(".ima")) {
+    return Format::dicom_file;
+  }
+  // DICOM files often have no extension: the "DICM" magic after the 128-byte preamble (looked
+  // for in regular files only: opening a named pipe would block).
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return Format::unknown;
+  std::ifstream in(path, std::ios::binary);
+  char magic[132] = {};
+  if (in.read(magic, sizeof magic) && std::string_view(magic + 128, 4) == "DICM") {
+    return Format::dicom_file;
   }
   return Format::unknown;
 }
@@ -63,7 +73,8 @@ Image read_volume(const fs::path& path, const ReadOptions& options) {
   if (format == Format::unknown) {
     throw file_error(path,
                      "unknown volume format; expected .nii, .nii.gz, .nrrd, .nhdr, "
-                     ".seg.nrrd, .mha, .mhd, .mrc, .map, .rec or a DICOM folder");
+                     ".seg.nrrd, .mha, .mhd, .mrc, .map, .rec, a DICOM SEG file or a DICOM "
+                     "folder");
   }
   if (format != Format::dicom) {
     // Opening a named pipe blocks until something writes to it; a device never ends. The readers
@@ -90,6 +101,9 @@ Image read_volume(const fs::path& path, const ReadOptions& options) {
         return volume_io::read_mrc(path, options);
       case Format::dicom:
         return volume_io::read_dicom_series(path, options);
+      case Format::dicom_file:
+        // One file is a volume only as a DICOM SEG object; a slice needs its series.
+        return volume_io::read_dicom_seg(path, options);
       case Format::unknown:
         break;
     }

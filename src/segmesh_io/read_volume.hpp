@@ -7,6 +7,9 @@
 //   .mha .mhd                MetaImage
 //   .mrc .map .rec           MRC / CCP4 maps (axis order mapc/mapr/maps honoured)
 //   <folder>                 one DICOM series, slices ordered by their position in space
+//   .dcm .dicom .ima, or a   a DICOM SEG object (dicom_seg_reader.hpp): its segments become the
+//   file with the DICM magic  label values, their names and colours Image::labels; any other
+//                            single DICOM file is an error asking for its series' folder
 //
 // Guarantees:
 // - Geometry is in ITK's LPS convention, as ITK reports it for the file (NIfTI-1, NRRD,

@@ -380,13 +380,16 @@ TEST(ReadVolumeErrors, UnknownMissingEmpty) {
   expect_error(
       [&] { read_volume(dir / "x.foo"); },
       {(dir / "x.foo").string() + ": unknown volume format; expected .nii, .nii.gz, .nrrd, .nhdr, "
-                                  ".seg.nrrd, .mha, .mhd, .mrc, .map, .rec or a DICOM folder"});
+                                  ".seg.nrrd, .mha, .mhd, .mrc, .map, .rec, a DICOM SEG file or a "
+                                  "DICOM folder"});
   expect_error([&] { read_volume(dir / "x.nii.gz"); },
                {(dir / "x.nii.gz").string() + ": no such file"});
   volume_test::write_text(dir / "empty.nrrd", "");
   expect_error([&] { read_volume(dir / "empty.nrrd"); }, {"empty.nrrd: file is empty"});
   volume_test::write_text(dir / "one.dcm", "x");
-  expect_error([&] { read_volume(dir / "one.dcm"); }, {"one.dcm: ", "folder"});
+  // Named .dcm but not DICOM at all (a DICOM file that is not a DICOM SEG object asks for its
+  // series' folder: test_read_volume_dicom_seg.cpp).
+  expect_error([&] { read_volume(dir / "one.dcm"); }, {"one.dcm: is not a DICOM file"});
 }
 
 TEST(ReadVolumeErrors, NoItkExceptionEscapes) {

@@ -95,7 +95,7 @@ TEST(ReadVolumeDicom, ForeignFilesAreSkippedWithAWarning) {
   const Image image = read_volume(folder, warnings.options());
   EXPECT_EQ(image.grid().dims, (std::array<int64_t, 3>{64, 64, 93}));
   EXPECT_TRUE(warnings.any_contains("skipping notes.txt: not a DICOM file"));
-  EXPECT_TRUE(warnings.any_contains("skipping liver_seg.dcm: multi-frame"));
+  EXPECT_TRUE(warnings.any_contains("skipping liver_seg.dcm: a multi-frame object"));
 }
 
 TEST(ReadVolumeDicom, TheLargestOfSeveralSeriesIsReadWithAWarning) {

@@ -112,7 +112,7 @@ TEST(ReadVolumeDicomRobustness, ForeignFilesAreSkippedWithAWarning) {
     EXPECT_TRUE(warnings.any_contains("skipping " + std::string(name) + ": not a DICOM file"))
         << name;
   }
-  EXPECT_TRUE(warnings.any_contains("skipping segmentation.dcm: multi-frame"));
+  EXPECT_TRUE(warnings.any_contains("skipping segmentation.dcm: a multi-frame object"));
   EXPECT_TRUE(warnings.any_contains("holds 2 series"));
   for (const std::string& w : warnings.messages) {
     EXPECT_EQ(w.find('\n'), std::string::npos) << w;
