@@ -53,6 +53,22 @@ inline Part make_part(std::string name, int32_t label, Role role, TriMesh mesh) 
   return p;
 }
 
+// What a segmesh file keeps of a part besides its mesh: the part `b` read back has `a`'s name,
+// label, component, role, voxels, visibility and material.
+inline void expect_same_part_info(const Part& b, const Part& a) {
+  EXPECT_EQ(b.name, a.name);
+  EXPECT_EQ(b.label, a.label);
+  EXPECT_EQ(b.component, a.component);
+  EXPECT_EQ(b.role, a.role);
+  EXPECT_EQ(b.voxels, a.voxels);
+  EXPECT_EQ(b.visible, a.visible);
+  EXPECT_EQ(b.material.base_color.r, a.material.base_color.r);
+  EXPECT_EQ(b.material.base_color.g, a.material.base_color.g);
+  EXPECT_EQ(b.material.base_color.b, a.material.base_color.b);
+  EXPECT_EQ(b.material.metallic, a.material.metallic);
+  EXPECT_EQ(b.material.roughness, a.material.roughness);
+}
+
 // A bone cube and an implant tetrahedron moved away from it (in the coordinates, not the
 // transform), positions with awkward float values.
 inline Scene two_part_scene() {

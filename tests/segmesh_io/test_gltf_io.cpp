@@ -128,19 +128,9 @@ TEST(GlbTest, RoundTripKeepsNamesMaterialsTransformsAndData) {
     const Part& a = scene.parts[source[i]];
     const Part& b = back.parts[i];
     SCOPED_TRACE(a.name);
-    EXPECT_EQ(b.name, a.name);
-    EXPECT_EQ(b.label, a.label);
-    EXPECT_EQ(b.component, a.component);
-    EXPECT_EQ(b.role, a.role);
-    EXPECT_EQ(b.voxels, a.voxels);
+    expect_same_part_info(b, a);
     EXPECT_EQ(b.voxel_volume_mm3, a.voxel_volume_mm3);
-    EXPECT_EQ(b.visible, a.visible);
     EXPECT_EQ(b.transform, a.transform);  // relative to the root, bit for bit
-    EXPECT_EQ(b.material.base_color.r, a.material.base_color.r);
-    EXPECT_EQ(b.material.base_color.g, a.material.base_color.g);
-    EXPECT_EQ(b.material.base_color.b, a.material.base_color.b);
-    EXPECT_EQ(b.material.metallic, a.material.metallic);
-    EXPECT_EQ(b.material.roughness, a.material.roughness);
     EXPECT_EQ(b.mesh.indices, a.mesh.indices);
     EXPECT_EQ(b.mesh.colors, a.mesh.colors);
     ASSERT_EQ(b.mesh.vertex_count(), a.mesh.vertex_count());
@@ -166,6 +156,45 @@ TEST(GlbTest, NamesThatAreNotUtf8AreRepairedNotFatal) {
   scene.parts.push_back(make_part("f\xe9mur", 1, Role::bone, tetrahedron()));  // Latin-1 e-acute
   write_scene(scene, dir / "latin1.glb", MeshFormat::glb);
   EXPECT_EQ(read_mesh(dir / "latin1.glb").parts.at(0).name, "f\xef\xbf\xbdmur");  // U+FFFD
+}
+
+// Many parts (an automatic segmenter's or a random label map's): the file is valid, plain and
+// quantized, and every part reads back with its own name, label, component, role, voxels, volume,
+// visibility and material, in order; names that need JSON escaping survive.
+TEST(GlbTest, ManyPartsAreValidAndReadBackInOrder) {
+  const fs::path dir = scratch_dir("glb_many_parts");
+  Scene scene;
+  const char* awkward[] = {"quote\"d", "back\\slash", "new\nline", "tab\tbed", "caf\xc3\xa9", "\x01ctl", "/slash/"};
+  constexpr int kParts = 2500;
+  for (int i = 0; i < kParts; ++i) {
+    TriMesh tet = tetrahedron();
+    for (Vec3f& p : tet.positions) p = {p.x + float(i % 50) * 3, p.y + float(i / 50) * 3, p.z + 0.5f * float(i % 7)};
+    const std::string name = "part" + std::to_string(i) + (i % 100 == 0 ? awkward[(i / 100) % 7] : "");
+    Part part = make_part(name, 1 + i % 255, i % 3 ? Role::bone : Role::implant, std::move(tet));
+    part.component = 1 + i / 255;
+    part.visible = i % 11 != 0;
+    scene.parts.push_back(std::move(part));
+  }
+  for (const bool quantize : {false, true}) {
+    SCOPED_TRACE(quantize);
+    const fs::path file = dir / (quantize ? "many_q.glb" : "many.glb");
+    write_scene(scene, file, MeshFormat::glb, {.quantize = quantize});
+    expect_valid_glb(file);
+    const Scene back = read_mesh(file);
+    ASSERT_EQ(back.parts.size(), size_t(kParts));
+    for (int i = 0; i < kParts; ++i) {
+      const Part& a = scene.parts[size_t(i)];
+      const Part& b = back.parts[size_t(i)];
+      ASSERT_EQ(b.name, a.name) << i;
+      expect_same_part_info(b, a);
+      EXPECT_EQ(b.voxel_volume_mm3, a.voxel_volume_mm3);
+      EXPECT_EQ(b.mesh.indices, a.mesh.indices);
+      ASSERT_EQ(b.mesh.vertex_count(), a.mesh.vertex_count());
+      for (size_t v = 0; v < a.mesh.vertex_count(); ++v) {
+        EXPECT_LE(norm(to_double(b.mesh.positions[v]) - to_double(a.mesh.positions[v])), quantize ? 2e-3 : 0.0);
+      }
+    }
+  }
 }
 
 // A file in glTF's own convention (metres, +Y up), not made by segmesh: u16 indices, TRS node

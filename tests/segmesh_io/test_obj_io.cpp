@@ -44,15 +44,7 @@ TEST(ObjTest, RoundTripKeepsNamesMaterialsPositionsIndicesNormals) {
     const Part& a = scene.parts[i];
     const Part& b = back.parts[i];
     SCOPED_TRACE(a.name);
-    EXPECT_EQ(b.name, a.name);
-    EXPECT_EQ(b.label, a.label);
-    EXPECT_EQ(b.role, a.role);
-    EXPECT_EQ(b.voxels, a.voxels);
-    EXPECT_EQ(b.material.base_color.r, a.material.base_color.r);
-    EXPECT_EQ(b.material.base_color.g, a.material.base_color.g);
-    EXPECT_EQ(b.material.base_color.b, a.material.base_color.b);
-    EXPECT_EQ(b.material.metallic, a.material.metallic);
-    EXPECT_EQ(b.material.roughness, a.material.roughness);
+    expect_same_part_info(b, a);
     EXPECT_EQ(b.mesh.indices, a.mesh.indices);
     ASSERT_EQ(b.mesh.vertex_count(), a.mesh.vertex_count());
     ASSERT_EQ(b.mesh.normals.size(), a.mesh.normals.size());

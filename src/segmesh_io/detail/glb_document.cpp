@@ -9,16 +9,14 @@
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <nlohmann/json.hpp>
 
 #include "segmesh_io/detail/byte_order.hpp"
+#include "segmesh_io/detail/json_text.hpp"
 #include "segmesh_io/detail/mesh_io_common.hpp"
 #include "segmesh_io/detail/piece_writer.hpp"
 #include "segmesh_io/gltf_writer.hpp"
 
 namespace segmesh::mesh_io {
-
-using Json = nlohmann::ordered_json;
 
 namespace {
 
@@ -81,34 +79,56 @@ std::array<int8_t, 3> quantize_normal(const Vec3f& n) {
   return best;
 }
 
+// An accessor's min and max (POSITION's), as integers (quantized) or as doubles.
+struct Bounds {
+  std::array<double, 3> lo, hi;
+  bool integers = false;
+};
+
+// The accessors and bufferViews as JSON text (the arrays' members, compact), and the binary
+// sources they describe.
 class GlbBuilder {
  public:
+  GlbBuilder() {
+    views_.begin_array();
+    accessors_.begin_array();
+  }
   // Reserves `bytes` as a new bufferView and an accessor over it; returns the accessor index.
   // `stride`, when not 0, is the view's byteStride (attributes padded to 4 bytes).
   size_t add_accessor(BinSource source, size_t count, int component_type, const char* type,
-                      int target, bool normalized = false, size_t stride = 0) {
+                      int target, bool normalized = false, size_t stride = 0,
+                      const Bounds* bounds = nullptr) {
     size_ = (size_ + 3) / 4 * 4;
     source.offset = size_;
     size_ += source.bytes;
-    views_.push_back(Json{{"buffer", 0}, {"byteOffset", source.offset}, {"byteLength", source.bytes}});
-    if (stride) views_.back()["byteStride"] = stride;
-    views_.back()["target"] = target;
+    views_.begin_object().member("buffer", 0).member("byteOffset", source.offset).member("byteLength", source.bytes);
+    if (stride) views_.member("byteStride", stride);
+    views_.member("target", target).end_object();
     sources_.push_back(source);
-    Json accessor{{"bufferView", views_.size() - 1}, {"componentType", component_type}};
-    if (normalized) accessor["normalized"] = true;
-    accessor["count"] = count;
-    accessor["type"] = type;
-    accessors_.push_back(std::move(accessor));
-    return accessors_.size() - 1;
+    accessors_.begin_object().member("bufferView", sources_.size() - 1).member("componentType", component_type);
+    if (normalized) accessors_.member("normalized", true);
+    accessors_.member("count", count).member("type", type);
+    if (bounds) {
+      for (const auto& [name, v] : {std::pair{"min", &bounds->lo}, std::pair{"max", &bounds->hi}}) {
+        accessors_.key(name).begin_array();
+        for (double x : *v) {
+          if (bounds->integers) accessors_.value(int64_t(x));
+          else accessors_.value(x);
+        }
+        accessors_.end_array();
+      }
+    }
+    accessors_.end_object();
+    return sources_.size() - 1;
   }
   size_t add_bytes(const void* data, size_t bytes, size_t count, int component_type,
                    const char* type, int target, bool normalized = false) {
     return add_accessor(BinSource{BinSource::Kind::bytes, data, nullptr, 0, bytes}, count,
                         component_type, type, target, normalized);
   }
-  Json& accessor(size_t i) { return accessors_[i]; }
-  Json& views() { return views_; }
-  Json& accessors() { return accessors_; }
+  // The arrays' text, closed.
+  std::string& views() { return views_.end_array().text(); }
+  std::string& accessors() { return accessors_.end_array().text(); }
   const std::vector<BinSource>& sources() const { return sources_; }
   // The binary chunk's length, padded to 4 bytes.
   size_t bin_size() const { return (size_ + 3) / 4 * 4; }
@@ -116,8 +136,7 @@ class GlbBuilder {
  private:
   size_t size_ = 0;
   std::vector<BinSource> sources_;
-  Json views_ = Json::array();
-  Json accessors_ = Json::array();
+  JsonText views_, accessors_;
 };
 
 // Unit normals the validator accepts: re-normalised in double; a zero or broken normal is replaced
@@ -173,93 +192,100 @@ class UnitNormals {
   std::vector<Vec3d> sum_;
 };
 
-Json matrix_json(const Transform& t) {
-  Json m = Json::array();
-  for (double v : t) m.push_back(v);
-  return m;
+void write_matrix(JsonText& j, const Transform& t) {
+  j.key("matrix").begin_array();
+  for (double v : t) j.value(v);
+  j.end_array();
 }
 
-Json extras_json(const GlbExtras& extras) {
-  Json j = Json::object();
+void write_extras(JsonText& j, const GlbExtras& extras) {
+  if (extras.empty()) return;
+  j.key("extras").begin_object();
   for (const auto& [key, value] : extras) {
-    std::visit([&j, &key](const auto& v) { j[key] = v; }, value);
+    j.key(key);
+    std::visit([&j](const auto& v) { j.value(v); }, value);
   }
-  return j;
+  j.end_object();
 }
 
-Json material_json(const GlbMaterial& m) {
+void write_material(JsonText& j, const GlbMaterial& m) {
   const Material& mat = m.material;
   const auto unit = [](float v) { return tidy(std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f)); };
-  return Json{{"name", m.name},
-              {"pbrMetallicRoughness",
-               {{"baseColorFactor", {unit(mat.base_color.r), unit(mat.base_color.g), unit(mat.base_color.b), 1.0}},
-                {"metallicFactor", unit(mat.metallic)},
-                {"roughnessFactor", unit(mat.roughness)}}}};
+  j.begin_object().member("name", m.name).key("pbrMetallicRoughness").begin_object();
+  j.key("baseColorFactor").begin_array();
+  j.value(unit(mat.base_color.r)).value(unit(mat.base_color.g)).value(unit(mat.base_color.b)).value(1.0);
+  j.end_array();
+  j.member("metallicFactor", unit(mat.metallic)).member("roughnessFactor", unit(mat.roughness));
+  j.end_object().end_object();
+}
+
+// A mesh's vertex accessors; `none` where there is none.
+struct Attributes {
+  static constexpr size_t none = ~size_t{0};
+  size_t position = none, normal = none, color = none;
+};
+
+void write_attributes(JsonText& j, const Attributes& a) {
+  j.key("attributes").begin_object().member("POSITION", a.position);
+  if (a.normal != Attributes::none) j.member("NORMAL", a.normal);
+  if (a.color != Attributes::none) j.member("COLOR_0", a.color);
+  j.end_object();
 }
 
 // The accessors of one mesh's vertices: POSITION with its bounds, NORMAL and COLOR_0 when asked;
 // quantized on `grid` when there is one.
-Json vertex_attributes(const GlbMesh& mesh, const std::optional<QuantGrid>& grid, GlbBuilder& b) {
+Attributes vertex_attributes(const GlbMesh& mesh, const std::optional<QuantGrid>& grid, GlbBuilder& b) {
   const TriMesh& m = *mesh.vertices;
   if (m.vertex_count() > std::numeric_limits<uint32_t>::max() - 1) {
     throw Error("glTF mesh '" + mesh.name + "' has too many vertices for uint32 indices");
   }
-  Json attributes = Json::object();
+  Attributes attributes;
   if (grid) {
     std::array<uint16_t, 3> lo{65535, 65535, 65535}, hi{0, 0, 0};
     for (const Vec3f& p : m.positions) {
       const std::array<uint16_t, 3> q = grid->quantize(p);
       for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], q[k]), hi[k] = std::max(hi[k], q[k]);
     }
-    const size_t position = b.add_accessor(
+    const Bounds bounds{{double(lo[0]), double(lo[1]), double(lo[2])}, {double(hi[0]), double(hi[1]), double(hi[2])}, true};
+    attributes.position = b.add_accessor(
         BinSource{BinSource::Kind::quantized_positions, nullptr, &m, 0, m.positions.size() * 8},
-        m.positions.size(), kUnsignedShort, "VEC3", kArrayBuffer, false, 8);
-    b.accessor(position)["min"] = lo;
-    b.accessor(position)["max"] = hi;
-    attributes["POSITION"] = position;
+        m.positions.size(), kUnsignedShort, "VEC3", kArrayBuffer, false, 8, &bounds);
     if (mesh.normals) {
-      attributes["NORMAL"] = b.add_accessor(
+      attributes.normal = b.add_accessor(
           BinSource{BinSource::Kind::quantized_normals, nullptr, &m, 0, m.normals.size() * 4},
           m.normals.size(), kByte, "VEC3", kArrayBuffer, true, 4);
     }
-    if (mesh.colors) {
-      attributes["COLOR_0"] = b.add_bytes(m.colors.data(), m.colors.size() * 4, m.colors.size(),
-                                          kUnsignedByte, "VEC4", kArrayBuffer, true);
+  } else {
+    Vec3f lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
+             std::numeric_limits<float>::max()};
+    Vec3f hi{-lo.x, -lo.y, -lo.z};
+    for (const Vec3f& p : m.positions) {
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
     }
-    return attributes;
-  }
-  Vec3f lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
-           std::numeric_limits<float>::max()};
-  Vec3f hi{-lo.x, -lo.y, -lo.z};
-  for (const Vec3f& p : m.positions) {
-    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-  }
-  static_assert(sizeof(Vec3f) == 12 && sizeof(Rgba8) == 4, "accessor data are written as they are");
-  const size_t position = b.add_bytes(m.positions.data(), m.positions.size() * 12,
-                                      m.positions.size(), kFloat, "VEC3", kArrayBuffer);
-  // float -> double is exact, so the validator's min/max comparison against the data holds.
-  b.accessor(position)["min"] = {double(lo.x), double(lo.y), double(lo.z)};
-  b.accessor(position)["max"] = {double(hi.x), double(hi.y), double(hi.z)};
-  attributes["POSITION"] = position;
-  if (mesh.normals) {
-    attributes["NORMAL"] = b.add_accessor(
-        BinSource{BinSource::Kind::normals, nullptr, &m, 0, m.normals.size() * 12},
-        m.normals.size(), kFloat, "VEC3", kArrayBuffer);
+    static_assert(sizeof(Vec3f) == 12 && sizeof(Rgba8) == 4, "accessor data are written as they are");
+    // float -> double is exact, so the validator's min/max comparison against the data holds.
+    const Bounds bounds{{double(lo.x), double(lo.y), double(lo.z)}, {double(hi.x), double(hi.y), double(hi.z)}};
+    attributes.position = b.add_accessor(
+        BinSource{BinSource::Kind::bytes, m.positions.data(), nullptr, 0, m.positions.size() * 12},
+        m.positions.size(), kFloat, "VEC3", kArrayBuffer, false, 0, &bounds);
+    if (mesh.normals) {
+      attributes.normal = b.add_accessor(
+          BinSource{BinSource::Kind::normals, nullptr, &m, 0, m.normals.size() * 12},
+          m.normals.size(), kFloat, "VEC3", kArrayBuffer);
+    }
   }
   if (mesh.colors) {
-    attributes["COLOR_0"] = b.add_bytes(m.colors.data(), m.colors.size() * 4, m.colors.size(),
-                                        kUnsignedByte, "VEC4", kArrayBuffer, true);
+    attributes.color = b.add_bytes(m.colors.data(), m.colors.size() * 4, m.colors.size(),
+                                   kUnsignedByte, "VEC4", kArrayBuffer, true);
   }
   return attributes;
 }
 
 // The GLB container: header, JSON chunk and BIN chunk, the binary data streamed from its sources.
-void write_container(const Json& gltf, const GlbBuilder& b, const std::optional<QuantGrid>& grid,
+void write_container(std::string json, const GlbBuilder& b, const std::optional<QuantGrid>& grid,
                      std::ostream& out) {
   const size_t bin_size = b.bin_size();
-  // Names may come from Latin-1 file headers; invalid UTF-8 becomes U+FFFD instead of a throw.
-  std::string json = gltf.dump(-1, ' ', false, Json::error_handler_t::replace);
   while (json.size() % 4) json.push_back(' ');
   const uint64_t total = 12 + 8 + json.size() + (bin_size == 0 ? 0 : 8 + bin_size);
   if (total > std::numeric_limits<uint32_t>::max()) {
@@ -350,72 +376,85 @@ QuantGrid scene_grid(const GlbScene& scene) {
 
 void write_glb_scene(const GlbScene& scene, std::ostream& out) {
   GlbBuilder b;
-  Json nodes = Json::array(), meshes = Json::array(), materials = Json::array();
-  Json root{{"name", kGltfRootName}, {"matrix", matrix_json(kGltfRootMatrix)}};
-  Json children = Json::array();
-  nodes.push_back(nullptr);  // the root goes first; filled in once its children are known
+  // The root is node 0 and the meshes' nodes follow it in order, so its children are 1..count.
+  size_t count = 0;
+  for (const GlbMesh& mesh : scene.meshes) count += mesh.primitives.empty() ? 0 : 1;
+  JsonText nodes, meshes;
+  nodes.begin_array().begin_object().member("name", kGltfRootName);
+  write_matrix(nodes, kGltfRootMatrix);
+  if (count > 0) {
+    nodes.key("children").begin_array();
+    for (size_t i = 1; i <= count; ++i) nodes.value(i);
+    nodes.end_array();
+  }
+  nodes.end_object();
+  meshes.begin_array();
 
   const std::optional<QuantGrid> grid = scene.quantize ? std::optional(scene_grid(scene)) : std::nullopt;
+  size_t mesh_index = 0;
   for (const GlbMesh& mesh : scene.meshes) {
     if (mesh.primitives.empty()) continue;
-    const Json attributes = vertex_attributes(mesh, grid, b);
+    const Attributes attributes = vertex_attributes(mesh, grid, b);
     const bool short_indices = grid && mesh.vertices->positions.size() <= 65535;
-    Json primitives = Json::array();
+    meshes.begin_object().member("name", mesh.name).key("primitives").begin_array();
     for (const GlbPrimitive& primitive : mesh.primitives) {
       static_assert(std::endian::native == std::endian::little, "GLB data are little-endian");
-      const size_t count = primitive.indices.size();
+      const size_t n = primitive.indices.size();
       const size_t indices =
           short_indices
               ? b.add_accessor(BinSource{BinSource::Kind::short_indices, primitive.indices.data(),
-                                         nullptr, 0, count * 2},
-                               count, kUnsignedShort, "SCALAR", kElementArrayBuffer)
-              : b.add_bytes(primitive.indices.data(), count * 4, count, kUnsignedInt, "SCALAR",
+                                         nullptr, 0, n * 2},
+                               n, kUnsignedShort, "SCALAR", kElementArrayBuffer)
+              : b.add_bytes(primitive.indices.data(), n * 4, n, kUnsignedInt, "SCALAR",
                             kElementArrayBuffer);
-      Json p{{"attributes", attributes}, {"indices", indices}, {"material", primitive.material},
-             {"mode", 4}};
-      if (!primitive.extras.empty()) p["extras"] = extras_json(primitive.extras);
-      primitives.push_back(std::move(p));
+      meshes.begin_object();
+      write_attributes(meshes, attributes);
+      meshes.member("indices", indices).member("material", primitive.material).member("mode", 4);
+      write_extras(meshes, primitive.extras);
+      meshes.end_object();
     }
-    meshes.push_back(Json{{"name", mesh.name}, {"primitives", std::move(primitives)}});
-    Json node{{"name", mesh.name}, {"mesh", meshes.size() - 1}};
+    meshes.end_array().end_object();
+    nodes.begin_object().member("name", mesh.name).member("mesh", mesh_index++);
     if (grid) {
-      node["matrix"] = matrix_json(multiply(mesh.matrix, grid->dequantize()));
+      write_matrix(nodes, multiply(mesh.matrix, grid->dequantize()));
     } else if (!is_identity(mesh.matrix)) {
-      node["matrix"] = matrix_json(mesh.matrix);
+      write_matrix(nodes, mesh.matrix);
     }
-    if (!mesh.extras.empty()) node["extras"] = extras_json(mesh.extras);
-    children.push_back(nodes.size());
-    nodes.push_back(std::move(node));
+    write_extras(nodes, mesh.extras);
+    nodes.end_object();
   }
-  if (!children.empty()) root["children"] = children;
-  nodes[0] = std::move(root);
-  for (const GlbMaterial& m : scene.materials) materials.push_back(material_json(m));
+  nodes.end_array();
+  meshes.end_array();
 
-  Json gltf;
-  gltf["asset"] = Json{
-      {"version", "2.0"},
-      {"generator", "segmesh"},
-      {"extras",
-       {{"units", "mm"},
-        {"space", "LPS"},
-        {"root_transform",
-         "node segmesh_scene maps LPS millimetres to glTF metres: gltf = 0.001 * (x, z, -y) "
-         "(x Left, +Y Superior, +Z Anterior)"}}}};
-  if (grid && !meshes.empty()) {
-    gltf["extensionsUsed"] = Json::array({"KHR_mesh_quantization"});
-    gltf["extensionsRequired"] = Json::array({"KHR_mesh_quantization"});
+  JsonText gltf;
+  gltf.begin_object().key("asset").begin_object().member("version", "2.0").member("generator", "segmesh");
+  gltf.key("extras").begin_object().member("units", "mm").member("space", "LPS");
+  gltf.member("root_transform",
+              "node segmesh_scene maps LPS millimetres to glTF metres: gltf = 0.001 * (x, z, -y) "
+              "(x Left, +Y Superior, +Z Anterior)");
+  gltf.end_object().end_object();
+  if (grid && count > 0) {
+    for (const char* key : {"extensionsUsed", "extensionsRequired"}) {
+      gltf.key(key).begin_array().value("KHR_mesh_quantization").end_array();
+    }
   }
-  gltf["scene"] = 0;
-  gltf["scenes"] = Json::array({Json{{"name", "segmesh"}, {"nodes", {0}}}});
-  gltf["nodes"] = std::move(nodes);
-  if (!meshes.empty()) {
-    gltf["meshes"] = std::move(meshes);
-    gltf["materials"] = std::move(materials);
-    gltf["accessors"] = std::move(b.accessors());
-    gltf["bufferViews"] = std::move(b.views());
+  gltf.member("scene", 0);
+  gltf.key("scenes").begin_array().begin_object().member("name", "segmesh");
+  gltf.key("nodes").begin_array().value(0).end_array().end_object().end_array();
+  gltf.key("nodes").raw(nodes.text());
+  if (count > 0) {
+    gltf.key("meshes").raw(meshes.text());
+    gltf.key("materials").begin_array();
+    for (const GlbMaterial& m : scene.materials) write_material(gltf, m);
+    gltf.end_array();
+    gltf.key("accessors").raw(b.accessors());
+    gltf.key("bufferViews").raw(b.views());
   }
-  if (b.bin_size() > 0) gltf["buffers"] = Json::array({Json{{"byteLength", b.bin_size()}}});
-  write_container(gltf, b, grid, out);
+  if (b.bin_size() > 0) {
+    gltf.key("buffers").begin_array().begin_object().member("byteLength", b.bin_size()).end_object().end_array();
+  }
+  gltf.end_object();
+  write_container(std::move(gltf.text()), b, grid, out);
 }
 
 }  // namespace segmesh::mesh_io

@@ -1,6 +1,7 @@
 // A GLB file described as plain data and written by one function: the machinery the GLB writers
 // share (gltf_writer: a node and mesh per part; atlas_writer: one mesh, a primitive per pair of
-// materials). Internal to segmesh_io; the JSON (nlohmann) stays in the .cpp file.
+// materials). Internal to segmesh_io; the JSON chunk is written as text (json_text.hpp), with no
+// tree of values, so its cost per part is a small constant.
 //
 // The file (passes the Khronos glTF validator with no errors or warnings):
 //   scene 0 -> the root node kGltfRootName, matrix kGltfRootMatrix (LPS millimetres to glTF
@@ -32,6 +33,7 @@
 #include <ostream>
 #include <span>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -40,9 +42,10 @@
 
 namespace segmesh::mesh_io {
 
-// A value of a glTF extras object; the members are written in the order given.
+// A value of a glTF extras object; the members are written in the order given. Keys are string
+// literals (or outlive the write).
 using GlbValue = std::variant<bool, int64_t, double, std::string>;
-using GlbExtras = std::vector<std::pair<std::string, GlbValue>>;
+using GlbExtras = std::vector<std::pair<std::string_view, GlbValue>>;
 
 struct GlbPrimitive {
   std::span<const uint32_t> indices;  // 3 per triangle, into the mesh's vertices; kept alive

@@ -46,8 +46,12 @@ inline constexpr size_t kPieceBytes = size_t(1) << 20;
 using PieceFill = std::function<std::string_view(size_t, ChunkBuffer&)>;
 void write_pieces(std::ostream& out, size_t count, const PieceFill& fill);
 
-// A list of pieces built part by part: text known in advance, or ranges of `items` things
-// formatted by a function, split into pieces of at most `per_piece` items.
+// A list of pieces built part by part: text known in advance, raw memory, or ranges of `items`
+// things formatted by a function, split into pieces of at most `per_piece` items (so one item
+// is taken to be about kPieceBytes / per_piece bytes). A format appends to the buffer it is given
+// (room, commit) and returns the buffer's view: consecutive small pieces (the parts of a
+// many-part scene) are formatted into one buffer and written together, so the cost per piece
+// is paid about once per kPieceBytes, not once per part.
 class PieceList {
  public:
   void text(std::string bytes);
@@ -77,7 +81,9 @@ class PieceList {
     std::string text;
     const char* data = nullptr;
     std::function<std::string_view(size_t, size_t, ChunkBuffer&)> format;
+    size_t item_bytes;  // a formatted item's size, about
   };
+  size_t estimate(const Piece& piece) const;  // bytes, about
   std::vector<Group> groups_;
   std::vector<Piece> pieces_;
 };
