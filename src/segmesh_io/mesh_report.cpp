@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "segmesh_io/atomic_file.hpp"
+#include "segmesh_io/detail/json_text.hpp"
 
 namespace segmesh {
 
@@ -57,11 +58,7 @@ nlohmann::json options_json(const ReportedRequest& r) {
   return j;
 }
 
-nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, const MeshTimings& t,
-                           const PipelineStats& stats, const Scene& scene,
-                           const SceneMeasures& scene_measures,
-                           const std::vector<std::string>& outputs) {
-  const std::vector<PartMeasures>& measures = scene_measures.parts;
+nlohmann::json input_json(const Image& image) {
   const Grid& grid = image.grid();
   nlohmann::json input = {{"dims", grid.dims},
                           {"spacing", grid.spacing},
@@ -69,102 +66,112 @@ nlohmann::json mesh_report(const Image& image, const nlohmann::json& options, co
                           {"direction", grid.direction}};
   input["path"] = image.path;
   input["type"] = image.voxel_type;
-  nlohmann::json parts = nlohmann::json::array();
+  return input;
+}
+
+// The sums over the parts the totals give.
+struct Totals {
   int64_t vertices = 0, triangles = 0, voxels = 0;
   double area = 0, volume = 0, voxel_volume = 0;
   bool all_closed = true;
+};
+
+// Part p's entry (its keys in alphabetical order, as nlohmann's object writes them).
+void write_part(mesh_io::JsonText& j, const Part& part, const PartMeasures& measures) {
+  const MeshMeasures& m = measures.mesh;
+  const QualityStats quality = measures.quality.value_or(QualityStats{});
+  const double volume_before = measures.volume_before_mm3.value_or(m.volume_mm3);
+  const Deviation deviation = measures.smoothing_deviation.value_or(Deviation{0, 0, 0});
+  j.begin_object();
+  j.member("area_mm2", m.area_mm2).member("boundary_edges", m.boundary_edges).member("closed", m.closed());
+  j.member("component", part.component);
+  // Decimation: null when the scene was not decimated.
+  j.key("decimation");
+  if (const auto& d = measures.decimation_deviation) {
+    j.begin_object().member("hausdorff_mm", d->hausdorff).member("mean_mm", d->mean).member("p95_mm", d->p95);
+    j.member("triangles_after", m.triangles);
+    j.member("triangles_before", measures.triangles_before_decimation.value_or(0)).end_object();
+  } else {
+    j.null();
+  }
+  j.member("euler", m.euler).member("label", part.label).member("name", part.name);
+  j.member("nonmanifold_edges", m.nonmanifold_edges);
+  j.key("radii_ratio").begin_object().member("mean", quality.mean).member("min", quality.min).end_object();
+  j.member("role", role_name(part.role)).member("shells", m.shells);
+  j.key("smoothing_deviation_mm").begin_object().member("hausdorff", deviation.hausdorff);
+  j.member("mean", deviation.mean).member("p95", deviation.p95).end_object();
+  j.member("triangles", m.triangles).member("vertices", m.vertices);
+  j.member("volume_change_percent", 100 * (m.volume_mm3 - volume_before) / volume_before);
+  j.member("volume_mm3", m.volume_mm3);
+  j.member("volume_vs_voxels_percent", 100 * (m.volume_mm3 - part.voxel_volume_mm3) / part.voxel_volume_mm3);
+  j.member("voxel_volume_mm3", part.voxel_volume_mm3).member("voxels", part.voxels);
+  j.member("winding_errors", m.winding_errors).end_object();
+}
+
+// The report up to the value of "timings_ms", which is the last thing known: the members in
+// alphabetical order (contacts, input, options, outputs, parts), written as text directly, so
+// that its cost per part is a small constant.
+Totals write_report_head(mesh_io::JsonText& j, const Image& image, const nlohmann::json& options,
+                         const Scene& scene, const SceneMeasures& scene_measures,
+                         const std::vector<std::string>& outputs) {
+  j.begin_object();
+  // Contacts are measured on conforming surfaces only; null says they were not.
+  j.key("contacts");
+  if (scene.conforming) {
+    j.begin_array();
+    for (const ContactMeasures& c : scene_measures.contacts) {
+      j.begin_object().member("area_mm2", c.area_mm2).member("max_gap_mm", c.max_gap_mm);
+      j.key("parts").begin_array().value(scene.parts[c.a].name).value(scene.parts[c.b].name).end_array();
+      j.end_object();
+    }
+    j.end_array();
+  } else {
+    j.null();
+  }
+  j.key("input").raw(input_json(image).dump(2));
+  j.key("options").raw(options.dump(2));
+  j.key("outputs").begin_array();
+  for (const std::string& o : outputs) j.value(o);
+  j.end_array();
+  Totals totals;
+  j.key("parts").begin_array();
   for (size_t p = 0; p < scene.parts.size(); ++p) {
     const Part& part = scene.parts[p];
-    const MeshMeasures& m = measures[p].mesh;
-    const QualityStats quality = measures[p].quality.value_or(QualityStats{});
-    const double volume_before = measures[p].volume_before_mm3.value_or(m.volume_mm3);
-    const Deviation deviation = measures[p].smoothing_deviation.value_or(Deviation{0, 0, 0});
-    // Decimation: null when the scene was not decimated.
-    nlohmann::json decimation = nullptr;
-    if (const auto& d = measures[p].decimation_deviation) {
-      decimation = {{"triangles_before", measures[p].triangles_before_decimation.value_or(0)},
-                     {"triangles_after", m.triangles},
-                     {"hausdorff_mm", d->hausdorff},
-                     {"p95_mm", d->p95},
-                     {"mean_mm", d->mean}};
-    }
-    parts.push_back({{"name", part.name},
-                     {"label", part.label},
-                     {"component", part.component},
-                     {"role", role_name(part.role)},
-                     {"voxels", part.voxels},
-                     {"voxel_volume_mm3", part.voxel_volume_mm3},
-                     {"vertices", m.vertices},
-                     {"triangles", m.triangles},
-                     {"area_mm2", m.area_mm2},
-                     {"volume_mm3", m.volume_mm3},
-                     {"closed", m.closed()},
-                     {"boundary_edges", m.boundary_edges},
-                     {"nonmanifold_edges", m.nonmanifold_edges},
-                     {"winding_errors", m.winding_errors},
-                     {"shells", m.shells},
-                     {"euler", m.euler},
-                     {"radii_ratio", {{"min", quality.min}, {"mean", quality.mean}}},
-                     {"volume_change_percent",
-                      100 * (m.volume_mm3 - volume_before) / volume_before},
-                     {"volume_vs_voxels_percent",
-                      100 * (m.volume_mm3 - part.voxel_volume_mm3) / part.voxel_volume_mm3},
-                     {"smoothing_deviation_mm",
-                      {{"hausdorff", deviation.hausdorff},
-                       {"mean", deviation.mean},
-                       {"p95", deviation.p95}}},
-                     {"decimation", decimation}});
-    vertices += m.vertices;
-    triangles += m.triangles;
-    voxels += part.voxels;
-    area += m.area_mm2;
-    volume += m.volume_mm3;
-    voxel_volume += part.voxel_volume_mm3;
-    all_closed = all_closed && m.closed();
+    const MeshMeasures& m = scene_measures.parts[p].mesh;
+    write_part(j, part, scene_measures.parts[p]);
+    totals.vertices += m.vertices;
+    totals.triangles += m.triangles;
+    totals.voxels += part.voxels;
+    totals.area += m.area_mm2;
+    totals.volume += m.volume_mm3;
+    totals.voxel_volume += part.voxel_volume_mm3;
+    totals.all_closed = totals.all_closed && m.closed();
   }
-  // Contacts are measured on conforming surfaces only; null says they were not.
-  nlohmann::json contacts = nullptr;
+  j.end_array();
+  j.key("timings_ms");
+  return totals;
+}
+
+// The rest: the timings and the totals.
+void write_report_tail(mesh_io::JsonText& j, const MeshTimings& t, const Totals& totals,
+                       const PipelineStats& stats, const Scene& scene, const SceneMeasures& measures) {
+  j.begin_object().member("components", t.components).member("decimate", t.decimate);
+  j.member("extract", t.extract).member("measure", t.measure).member("other", t.total - t.steps());
+  j.member("read", t.read).member("report", t.report).member("smooth", t.smooth);
+  j.member("total", t.total).member("write", t.write).end_object();
   double max_gap = 0;
-  if (scene.conforming) {
-    contacts = nlohmann::json::array();
-    for (const ContactMeasures& c : scene_measures.contacts) {
-      contacts.push_back({{"parts", {scene.parts[c.a].name, scene.parts[c.b].name}},
-                          {"area_mm2", c.area_mm2},
-                          {"max_gap_mm", c.max_gap_mm}});
-      max_gap = std::max(max_gap, c.max_gap_mm);
-    }
-  }
-  return {{"input", input},
-          {"options", options},
-          {"timings_ms",
-           {{"read", t.read},
-            {"components", t.components},
-            {"extract", t.extract},
-            {"smooth", t.smooth},
-            {"decimate", t.decimate},
-            {"write", t.write},
-            {"measure", t.measure},
-            {"report", t.report},
-            {"other", t.total - t.steps()},
-            {"total", t.total}}},
-          {"outputs", outputs},
-          {"parts", parts},
-          {"contacts", contacts},
-          {"totals",
-           {{"parts", scene.parts.size()},
-            {"vertices", vertices},
-            {"triangles", triangles},
-            {"voxels", voxels},
-            {"voxel_volume_mm3", voxel_volume},
-            {"area_mm2", area},
-            {"volume_mm3", volume},
-            {"all_closed", all_closed},
-            {"dropped_components", stats.dropped_components},
-            {"presmooth_fallbacks", stats.presmooth_fallbacks},
-            {"contacts", scene.conforming ? nlohmann::json(scene_measures.contacts.size())
-                                          : nlohmann::json(nullptr)},
-            {"max_contact_gap_mm",
-             scene.conforming ? nlohmann::json(max_gap) : nlohmann::json(nullptr)}}}};
+  for (const ContactMeasures& c : measures.contacts) max_gap = std::max(max_gap, c.max_gap_mm);
+  j.key("totals").begin_object().member("all_closed", totals.all_closed).member("area_mm2", totals.area);
+  if (scene.conforming) j.member("contacts", measures.contacts.size());
+  else j.key("contacts").null();
+  j.member("dropped_components", stats.dropped_components);
+  if (scene.conforming) j.member("max_contact_gap_mm", max_gap);
+  else j.key("max_contact_gap_mm").null();
+  j.member("parts", scene.parts.size()).member("presmooth_fallbacks", stats.presmooth_fallbacks);
+  j.member("triangles", totals.triangles).member("vertices", totals.vertices);
+  j.member("volume_mm3", totals.volume).member("voxel_volume_mm3", totals.voxel_volume);
+  j.member("voxels", totals.voxels).end_object();
+  j.end_object();
 }
 
 }  // namespace
@@ -175,37 +182,14 @@ void write_mesh_report(const std::filesystem::path& path, const Image& image,
                        const Scene& scene, const SceneMeasures& measures,
                        const std::vector<std::string>& outputs) {
   const auto step = std::chrono::steady_clock::now();
-  // The timings are the last thing known: the report is put into text with a marker in their
-  // place and its tree freed (with many parts, making the text and freeing the tree take as long
-  // as the rest of the report), then they are.
-  constexpr std::string_view kMarker = "segmesh:timings_ms";
-  nlohmann::json timings;
-  std::string text;
-  {
-    nlohmann::json json = mesh_report(image, options_json(request), t, stats, scene, measures, outputs);
-    timings = std::move(json["timings_ms"]);
-    json["timings_ms"] = kMarker;
-    text = json.dump(2);
-  }
+  mesh_io::JsonText j(2);
+  const Totals totals = write_report_head(j, image, options_json(request), scene, measures, outputs);
   t.report = ms_since(step);
   // The total as the report is written: everything but the file write and what follows it.
   t.total = ms_since(start);
-  timings["report"] = t.report;
-  timings["other"] = t.total - t.steps();
-  timings["total"] = t.total;
-  // At depth one of the two-space indentation.
-  std::string value;
-  for (const char c : timings.dump(2)) {
-    value += c;
-    if (c == '\n') value += "  ";
-  }
-  const std::string quoted = "\"" + std::string(kMarker) + "\"";
-  const size_t at = text.find("\"timings_ms\": " + quoted);
-  if (at != std::string::npos) {
-    text.replace(text.find(quoted, at), quoted.size(), value);
-  }
+  write_report_tail(j, t, totals, stats, scene, measures);
   AtomicFile file(path);
-  file.stream() << text << '\n';
+  file.stream() << j.text() << '\n';
   file.commit();
 }
 
