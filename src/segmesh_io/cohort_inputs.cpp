@@ -204,7 +204,7 @@ void name_cases(std::vector<CohortCase>& cases) {
       }
     }
   }
-  std::set<std::string> used;
+  UniqueNames used(/*fold_case=*/true);
   for (size_t i = 0; i < n; ++i) cases[i].name = unique_stem(name_at(i), used);
 }
 

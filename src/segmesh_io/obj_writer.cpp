@@ -6,10 +6,10 @@
 #include <cstring>
 #include <cctype>
 #include <cmath>
-#include <set>
 
 #include "segmesh_io/detail/mesh_io_common.hpp"
 #include "segmesh_io/detail/piece_writer.hpp"
+#include "segmesh_io/detail/text.hpp"
 
 namespace segmesh {
 
@@ -17,16 +17,13 @@ using namespace mesh_io;
 
 namespace {
 
-std::string material_name(const std::string& part_name, std::set<std::string>& used) {
+std::string material_name(const std::string& part_name, UniqueNames& used) {
   std::string base = one_line(part_name);
   for (char& c : base) {
     if (std::isspace(static_cast<unsigned char>(c))) c = '_';
   }
   if (base.empty()) base = "part";
-  std::string name = base;
-  for (int n = 2; used.count(name); ++n) name = base + "_" + std::to_string(n);
-  used.insert(name);
-  return name;
+  return used.make(base);
 }
 
 // "<tag> x y z\n" with each number in its shortest exact form; at most kMaxVecLine bytes.
@@ -49,7 +46,7 @@ constexpr size_t kMaxFaceLine = 1 + 3 * (1 + 20 + 2 + 20) + 1;
 
 void write_obj(const PartList& parts, std::ostream& obj, std::ostream& mtl,
                const std::string& mtl_file_name) {
-  std::set<std::string> used;
+  UniqueNames used(/*fold_case=*/false);
   std::vector<std::string> materials;
   for (const Part* part : parts) materials.push_back(material_name(part->name, used));
 

@@ -5,7 +5,6 @@
 #include <cstring>
 #include <memory>
 #include <optional>
-#include <set>
 #include <string>
 #include <system_error>
 
@@ -88,7 +87,7 @@ void commit_all(Files& files) {
 // The file of every part in `parts`, in order, in `dir`.
 std::vector<fs::path> file_paths(const PartList& parts, const fs::path& dir, MeshFormat format) {
   std::vector<fs::path> paths;
-  std::set<std::string> used;
+  UniqueNames used(/*fold_case=*/true);
   for (const Part* part : parts) {
     const std::string stem = unique_stem(file_stem_for(part->name, "part"), used);
     paths.push_back(dir / (stem + "." + std::string(extension(format))));

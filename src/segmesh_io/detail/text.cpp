@@ -36,10 +36,15 @@ std::string file_stem_for(std::string_view name, std::string_view empty_name) {
   return s.empty() ? std::string(empty_name) : s;
 }
 
-std::string unique_stem(const std::string& stem, std::set<std::string>& used) {
-  std::string out = stem;
-  for (int n = 2; used.count(lower(out)); ++n) out = stem + "_" + std::to_string(n);
-  used.insert(lower(out));
+std::string UniqueNames::make(const std::string& base) {
+  std::string out = base;
+  if (used_.contains(key(out))) {
+    int& n = next_.try_emplace(key(base), 2).first->second;
+    do {
+      out = base + "_" + std::to_string(n++);
+    } while (used_.contains(key(out)));
+  }
+  used_.insert(key(out));
   return out;
 }
 

@@ -11,8 +11,9 @@
 #pragma once
 
 #include <charconv>
-#include <set>
 #include <string>
+#include <unordered_map>
+#include <unordered_set>
 #include <string_view>
 #include <system_error>
 
@@ -40,9 +41,24 @@ std::string_view next_word(std::string_view& s);
 // nothing is left.
 std::string file_stem_for(std::string_view name, std::string_view empty_name);
 
-// `stem`, or `stem_2`, `stem_3`, ... the first not in `used` (compared in lower case, for file
-// systems that ignore case); adds its lower case to `used`.
-std::string unique_stem(const std::string& stem, std::set<std::string>& used);
+// Names made unique: make(base) is `base`, or `base_2`, `base_3`, ... the first not made before
+// (compared in lower case when folding case, for file systems that ignore it). Each base
+// remembers the suffix it reached, so n equal names cost O(n), not O(n^2) (a scene of many
+// parts named alike).
+class UniqueNames {
+ public:
+  explicit UniqueNames(bool fold_case) : fold_case_(fold_case) {}
+  std::string make(const std::string& base);
+
+ private:
+  std::string key(const std::string& name) const { return fold_case_ ? lower(name) : name; }
+  bool fold_case_;
+  std::unordered_set<std::string> used_;
+  std::unordered_map<std::string, int> next_;  // per base's key: the suffix to try next
+};
+
+// `stem`, or `stem_2`, `stem_3`, ... the first not made by `used` before, compared in lower case.
+inline std::string unique_stem(const std::string& stem, UniqueNames& used) { return used.make(stem); }
 
 // Parses the whole of `s` as a T (a leading '+' allowed); false, with `out` unspecified, when `s`
 // is empty or holds anything else.

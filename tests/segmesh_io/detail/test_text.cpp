@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <set>
 #include <string>
 #include <string_view>
 
@@ -52,6 +53,26 @@ TEST(Text, NumbersMustFillTheToken) {
   EXPECT_EQ(f, 5.0f);
   uint64_t u = 0;
   EXPECT_FALSE(parse_number("-1", u));
+}
+
+// Unique names: the first of a name as it is, then _2, _3, ...; a given name that is taken skips
+// its suffix; case folded or not; many equal names (the parts of a many-part scene) stay distinct.
+TEST(Text, UniqueNamesCountOnAndFoldCaseWhenAsked) {
+  UniqueNames files(/*fold_case=*/true);
+  EXPECT_EQ(files.make("femur"), "femur");
+  EXPECT_EQ(files.make("Femur"), "Femur_2");
+  EXPECT_EQ(files.make("femur_3"), "femur_3");
+  EXPECT_EQ(files.make("femur"), "femur_4");
+  EXPECT_EQ(files.make("femur_2"), "femur_2_2");
+  UniqueNames materials(/*fold_case=*/false);
+  EXPECT_EQ(materials.make("femur"), "femur");
+  EXPECT_EQ(materials.make("Femur"), "Femur");
+  EXPECT_EQ(materials.make("femur"), "femur_2");
+  UniqueNames many(true);
+  std::set<std::string> seen;
+  for (int i = 0; i < 100000; ++i) seen.insert(many.make("part"));
+  EXPECT_EQ(seen.size(), 100000u);
+  EXPECT_TRUE(seen.contains("part_100000"));
 }
 
 }  // namespace
