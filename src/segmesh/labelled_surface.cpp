@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <map>
 #include <numeric>
+#include <span>
 #include <utility>
 
 #include "segmesh/smoothing.hpp"
@@ -27,8 +28,73 @@ struct VertexStamps {
   std::vector<uint32_t> local;
 };
 
+// The two vertices of triangle t other than v, in the triangle's order.
+std::pair<uint32_t, uint32_t> others_of(const TriMesh& shell, uint32_t t, uint32_t v) {
+  const uint32_t* i = &shell.indices[3 * size_t{t}];
+  const int c = i[0] == v ? 0 : i[1] == v ? 1 : 2;
+  return {i[(c + 1) % 3], i[(c + 2) % 3]};
+}
+
+// An edge (v, w) of four shell triangles: two sheets of the shell meet along it (multi-label Dual
+// Contouring contracts a junction cell's piece to one vertex; where a part reaches a cell face
+// through two separate segments and the pieces on both sides hold both, the two sheets share the
+// edge between the two pieces' vertices). Its triangles pair up by sheet: walking around v from
+// one of them, over v's other edges, comes back to the edge through its partner (v's link is a
+// figure eight through w; each loop is one sheet). Returns false where the walk meets another
+// such edge first.
+using SheetPairs = std::map<std::pair<uint32_t, uint32_t>, std::array<uint32_t, 4>>;
+
+bool pair_by_sheet(const TriMesh& shell, uint32_t v, uint32_t w, std::span<const uint32_t> around_v,
+                   const SheetPairs& known, std::array<uint32_t, 4>& edge) {
+  auto degree = [&](uint32_t node) {
+    int d = 0;
+    for (uint32_t t : around_v) {
+      const auto [a, b] = others_of(shell, t, v);
+      d += (a == node) + (b == node);
+    }
+    return d;
+  };
+  uint32_t t = edge[0];
+  uint32_t node = [&] {
+    const auto [a, b] = others_of(shell, t, v);
+    return a == w ? b : a;
+  }();
+  for (size_t step = 0; step <= around_v.size(); ++step) {
+    uint32_t next = t;
+    const int d = degree(node);
+    if (d == 2) {
+      for (uint32_t u : around_v) {
+        if (u == t) continue;
+        const auto [a, b] = others_of(shell, u, v);
+        if (a == node || b == node) next = u;
+      }
+    } else {
+      // Across another edge of four triangles already paired: on to t's partner there.
+      const auto it = known.find({std::min(v, node), std::max(v, node)});
+      if (d != 4 || it == known.end()) return false;
+      const auto& pairs = it->second;
+      const auto k = std::find(pairs.begin(), pairs.end(), t) - pairs.begin();
+      if (k == 4) return false;
+      next = pairs[size_t(k ^ 1)];
+    }
+    const auto [a, b] = others_of(shell, next, v);
+    node = a == node ? b : a;
+    t = next;
+    if (node == w) {
+      // edge[0] and t are one sheet: order the edge's triangles as two pairs.
+      const auto at = std::find(edge.begin() + 1, edge.end(), t);
+      if (at == edge.end()) return false;
+      std::iter_swap(edge.begin() + 1, at);
+      return true;
+    }
+  }
+  return false;
+}
+
 // Gives a shell vertex that is shared by several fans of the shell's triangles (the shell touches
-// itself there) one vertex per fan beyond the first, at the same position.
+// itself there) one vertex per fan beyond the first, at the same position. Where two fans share an
+// edge of four triangles (pair_by_sheet), the edge's triangles join by sheet only, so the fans part
+// there too and the edge becomes two.
 void split_pinches(TriMesh& shell, const std::vector<uint32_t>& candidates) {
   if (candidates.empty()) return;
   // The shell triangles at each candidate, as (vertex, triangle) pairs.
@@ -40,29 +106,69 @@ void split_pinches(TriMesh& shell, const std::vector<uint32_t>& candidates) {
     for (int c = 0; c < 3; ++c)
       if (is_candidate[shell.indices[3 * t + c]]) at.push_back({shell.indices[3 * t + c], t});
   std::sort(at.begin(), at.end());
+  std::vector<size_t> group_first;  // the triangles at each candidate: at[group_first[g] ..]
+  for (size_t s = 0; s < at.size(); ++s)
+    if (s == 0 || at[s].first != at[s - 1].first) group_first.push_back(s);
+  group_first.push_back(at.size());
+  std::vector<uint32_t> around;
+  // Edges of four triangles at a candidate, their triangles paired by sheet (the first two and
+  // the last two), keyed by (lower vertex, higher vertex).
+  // Passes until no edge is added: a walk may cross edges paired in an earlier pass.
+  SheetPairs sheets;
+  for (bool added = true; added;) {
+    added = false;
+    for (size_t g = 0; g + 1 < group_first.size(); ++g) {
+      const uint32_t v = at[group_first[g]].first;
+      around.clear();
+      for (size_t a = group_first[g]; a < group_first[g + 1]; ++a) around.push_back(at[a].second);
+      std::map<uint32_t, std::vector<uint32_t>> by_neighbour;
+      for (uint32_t t : around) {
+        const auto [a, b] = others_of(shell, t, v);
+        by_neighbour[a].push_back(t);
+        by_neighbour[b].push_back(t);
+      }
+      for (const auto& [w, ts] : by_neighbour) {
+        const std::pair<uint32_t, uint32_t> key{std::min(v, w), std::max(v, w)};
+        if (ts.size() != 4 || sheets.count(key)) continue;
+        std::array<uint32_t, 4> edge{ts[0], ts[1], ts[2], ts[3]};
+        if (pair_by_sheet(shell, v, w, around, sheets, edge)) {
+          sheets[key] = edge;
+          added = true;
+        }
+      }
+    }
+  }
   std::vector<uint32_t> fan;
-  for (size_t s = 0; s < at.size();) {
-    size_t e = s;
-    while (e < at.size() && at[e].first == at[s].first) ++e;
+  for (size_t g = 0; g + 1 < group_first.size(); ++g) {
+    const size_t s = group_first[g], e = group_first[g + 1];
     const uint32_t v = at[s].first;
     const size_t n = e - s;
-    // Union-find over the triangles at v: two join when they share an edge (v, w).
+    // Union-find over the triangles at v: two join when they share an edge (v, w), and on an edge
+    // of four triangles paired by sheet only when they are one sheet.
     fan.resize(n);
     std::iota(fan.begin(), fan.end(), 0u);
     auto find = [&](uint32_t x) {
       while (fan[x] != x) x = fan[x] = fan[fan[x]];
       return x;
     };
-    auto others = [&](uint32_t t) {
-      const uint32_t* i = &shell.indices[3 * t];
-      const int c = i[0] == v ? 0 : i[1] == v ? 1 : 2;
-      return std::pair{i[(c + 1) % 3], i[(c + 2) % 3]};
+    auto one_sheet = [&](uint32_t w, uint32_t ta, uint32_t tb) {
+      const auto it = sheets.find({std::min(v, w), std::max(v, w)});
+      if (it == sheets.end()) return true;
+      const auto& edge = it->second;
+      const auto pos = [&](uint32_t t) {
+        return std::find(edge.begin(), edge.end(), t) - edge.begin();
+      };
+      return pos(ta) / 2 == pos(tb) / 2;
     };
     for (size_t a = 0; a < n; ++a) {
-      const auto [a1, a2] = others(at[s + a].second);
+      const uint32_t ta = at[s + a].second;
+      const auto [a1, a2] = others_of(shell, ta, v);
       for (size_t b = a + 1; b < n; ++b) {
-        const auto [b1, b2] = others(at[s + b].second);
-        if (a1 == b1 || a1 == b2 || a2 == b1 || a2 == b2) fan[find(uint32_t(a))] = find(uint32_t(b));
+        const uint32_t tb = at[s + b].second;
+        const auto [b1, b2] = others_of(shell, tb, v);
+        for (uint32_t w : {a1, a2})
+          if ((w == b1 || w == b2) && one_sheet(w, ta, tb))
+            fan[find(uint32_t(a))] = find(uint32_t(b));
       }
     }
     // Fans by their first triangle; the first fan keeps v.
@@ -79,7 +185,6 @@ void split_pinches(TriMesh& shell, const std::vector<uint32_t>& candidates) {
       for (int c = 0; c < 3; ++c)
         if (i[c] == v) i[c] = it->second;
     }
-    s = e;
   }
 }
 

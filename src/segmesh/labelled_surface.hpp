@@ -11,9 +11,15 @@
 //
 // part_shells cuts one closed, edge-manifold, outward-wound mesh per part out of it: the part's
 // triangles, those where the part is outside turned around, on the part's vertices only. Where a
-// part's shell touches itself at a junction cell's centre (its material reaches the cell from two
+// part's shell touches itself at a junction vertex (its material reaches a junction cell from two
 // sides), the shell gets one vertex per fan there, at the same position, so it stays a manifold.
-// Cost: O(vertices + triangles) time and the shells' memory.
+// Where two sheets of a shell share an edge between two junction vertices (four triangles on it:
+// multi-label Dual Contouring contracts each junction cell's piece to one vertex, and a part that
+// reaches a face through two separate segments gives the pieces on both sides both sheets), the
+// edge's triangles are paired by sheet (walking round one end over its other edges) and the fans
+// part there too: the shell touches itself along that edge, as two edges at the same place.
+// Cost: O(vertices + triangles) time and the shells' memory (the junction vertices' triangles
+// sorted; a walk per shared edge).
 #pragma once
 
 #include <array>
@@ -28,7 +34,8 @@ struct LabelledSurface {
   TriMesh mesh;  // world millimetres, vertices shared between the parts
   // Per triangle: {inside, outside} material (0 background, p + 1 part p).
   std::vector<std::array<uint32_t, 2>> sides;
-  // The vertices at which a part's shell can touch itself (junction cells' centres), ascending.
+  // The vertices at which a part's shell can touch itself (junction cells' centres or pieces),
+  // ascending.
   std::vector<uint32_t> junction_vertices;
   size_t part_count = 0;
 };

@@ -74,12 +74,16 @@ std::string got(double v) {
 
 // What keeps a request from conforming surfaces, if anything: the one rule behind the automatic
 // choice, the refusal of --surfaces conforming and surfaces_note.
-enum class ConformingObstacle { none, dual_contouring, iso, presmooth };
+// dual_contouring only keeps the automatic choice from conforming surfaces (asked for, Dual
+// Contouring gives them).
+enum class ConformingObstacle { none, dual_contouring, dc_tolerance, iso, presmooth };
 
 ConformingObstacle conforming_obstacle(const MeshingOptions& o) {
-  if (o.method != Method::marching_cubes) return ConformingObstacle::dual_contouring;
   if (o.iso) return ConformingObstacle::iso;
   if (o.volume_sigma_mm > 0) return ConformingObstacle::presmooth;
+  if (o.method == Method::dual_contouring && o.dc_tolerance_mm > 0)
+    return ConformingObstacle::dc_tolerance;
+  if (o.method != Method::marching_cubes) return ConformingObstacle::dual_contouring;
   return ConformingObstacle::none;
 }
 
@@ -92,6 +96,9 @@ std::optional<std::string> surfaces_note(const MeshingOptions& o) {
     case ConformingObstacle::dual_contouring:
       return "Dual Contouring meshes every part on its own: where parts touch, each has its own "
              "surface (use --method mc for shared contacts)";
+    case ConformingObstacle::dc_tolerance:
+      return "--dc-tolerance simplifies every part's own surface: where parts touch, each has its "
+             "own surface (decimate instead for shared contacts)";
     case ConformingObstacle::presmooth:
       return "--presmooth smooths every part's own field: where parts touch, each has its own "
              "surface (smooth the mesh instead for shared contacts)";
@@ -128,9 +135,9 @@ MeshingOptions resolve_meshing_options(MeshingOptions o) {
     o.surfaces = obstacle == ConformingObstacle::none ? Surfaces::conforming : Surfaces::independent;
   } else if (o.surfaces == Surfaces::conforming) {
     switch (obstacle) {
-      case ConformingObstacle::dual_contouring:
-        fail("--surfaces conforming needs --method mc (Dual Contouring meshes each part on its "
-             "own: add --surfaces independent)");
+      case ConformingObstacle::dc_tolerance:
+        fail("--dc-tolerance simplifies each part's own surface; with --surfaces conforming "
+             "decimate instead (--decimate-error), or add --surfaces independent");
         break;
       case ConformingObstacle::iso:
         fail("--surfaces conforming meshes label maps; with --iso use --surfaces independent");
@@ -139,6 +146,7 @@ MeshingOptions resolve_meshing_options(MeshingOptions o) {
         fail("--presmooth smooths each part's own field; with --surfaces conforming smooth the "
              "mesh instead (--smooth), or add --surfaces independent");
         break;
+      case ConformingObstacle::dual_contouring:
       case ConformingObstacle::none:
         break;
     }

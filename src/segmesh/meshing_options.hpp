@@ -38,11 +38,12 @@ std::string_view normals_name(NormalMethod normals);  // "central", "sobel"
 
 // How the parts of a label map are meshed: each on its own (independent: touching parts get two
 // surfaces that smoothing moves apart), or all at once as one surface whose contacts are meshed
-// once and smoothed once for both sides (conforming: multi_label_marching_cubes.hpp,
-// joint_smoothing.hpp; each part is still written as its own closed shell). automatic, the
-// default, resolves to conforming for label maps meshed with Marching Cubes without --presmooth,
-// and to independent otherwise (grey values, Dual Contouring, presmoothing: surfaces_note says
-// why where parts could touch).
+// once and smoothed once for both sides (conforming: multi_label_marching_cubes.hpp or
+// multi_label_dual_contouring.hpp, joint_smoothing.hpp; each part is still written as its own
+// closed shell). automatic, the default, resolves to conforming for label maps meshed with
+// Marching Cubes without --presmooth, and to independent otherwise (grey values, Dual Contouring,
+// presmoothing, --dc-tolerance: surfaces_note says why where parts could touch). Conforming Dual
+// Contouring is asked for by name; --presmooth, --iso and --dc-tolerance refuse it.
 enum class Surfaces { automatic, independent, conforming };
 std::string_view surfaces_name(Surfaces surfaces);  // "automatic", "independent", "conforming"
 std::optional<Surfaces> parse_surfaces(std::string_view name);
@@ -57,7 +58,7 @@ SmoothOptions default_smoothing();
 
 struct MeshingOptions {
   Method method = Method::marching_cubes;
-  Surfaces surfaces = Surfaces::automatic;  // conforming: Marching Cubes on label maps only
+  Surfaces surfaces = Surfaces::automatic;  // conforming: label maps only
   std::vector<int32_t> labels;  // labels to mesh; empty: every non-zero label
   std::optional<double> iso;    // mesh a grey-value volume at this value instead of labels
   int connectivity = kDefaultConnectivity;  // voxel connectivity of parts: 6, 18 or 26

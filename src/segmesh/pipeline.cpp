@@ -18,6 +18,7 @@
 #include "segmesh/label_stats.hpp"
 #include "segmesh/extract_part.hpp"
 #include "segmesh/joint_smoothing.hpp"
+#include "segmesh/multi_label_dual_contouring.hpp"
 #include "segmesh/multi_label_marching_cubes.hpp"
 #include "segmesh/quality.hpp"
 
@@ -203,8 +204,13 @@ Scene extract_scene(const Image& image, const PipelineParts& parts, const Meshin
     for (size_t p = 0; p < parts.kept.size(); ++p) {
       scene.parts[p] = describe_part(image, o, components.components[parts.kept[p]], grey);
     }
-    scene.surface = multi_label_marching_cubes(image.grid(), components, parts.kept,
-                                               o.connectivity, progress);
+    scene.surface =
+        o.method == Method::dual_contouring
+            ? multi_label_dual_contouring(image.grid(), components, parts.kept,
+                                          {.connectivity = o.connectivity, .svd_eps = o.dc_svd_eps},
+                                          progress)
+            : multi_label_marching_cubes(image.grid(), components, parts.kept, o.connectivity,
+                                         progress);
     if (cut_shells) set_part_shells(scene);
     return scene;
   }

@@ -28,7 +28,7 @@ struct MeshingSettings {
 // build_scene: not resolved, so surfaces_note can still say why automatic surfaces were not
 // conforming. Throws segmesh::Error when it would not resolve: labels that do not parse
 // ("--labels expects whole numbers like 1,2"), options out of range (a negative iteration count,
-// a negative decimation error or budget), conforming surfaces with Dual Contouring.
+// a negative decimation error or budget).
 MeshingOptions meshing_request(const MeshingSettings& settings);
 
 // The resolved options for these settings: resolve_meshing_options(meshing_request(settings)).

@@ -140,7 +140,7 @@ TEST(Cli, ConformingSurfacesGiveClosedPartsAndSayWhichRan) {
     std::string options, message;
   };
   for (const Case& c : {Case{"--surfaces shared", "--surfaces must be conforming, independent or automatic"},
-                        Case{"--surfaces conforming --method dc", "needs --method mc"},
+                        Case{"--surfaces conforming --method dc --dc-tolerance 0.1", "--dc-tolerance simplifies"},
                         Case{"--surfaces conforming --iso 1", "meshes label maps"}}) {
     const auto bad = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "x.glb") + " " + c.options);
     EXPECT_EQ(bad.exit_code, 2) << c.options;

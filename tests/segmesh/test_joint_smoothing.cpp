@@ -57,84 +57,93 @@ std::vector<Vec3d> contact_vertices(const LabelledSurface& s) {
 
 TEST(JointSmoothing, AScrewStaysInContactWithItsBlockThroughEverySmoothing) {
   const Image image = test::label_image(screw_in_block());
-  for (SmoothMethod method :
-       {SmoothMethod::sinc, SmoothMethod::hc, SmoothMethod::taubin, SmoothMethod::laplacian}) {
-    MeshingOptions o;
-    o.surfaces = Surfaces::conforming;
-    o.smooth = default_smoothing();
-    o.smooth.method = method;
-    const Scene scene = build_scene(image, o);
-    ASSERT_EQ(scene.parts.size(), 2u);
-    ASSERT_TRUE(scene.surface.has_value());
-    test::expect_sound_shells(scene);
-    const std::vector<Vec3d> contact = contact_vertices(*scene.surface);
-    ASSERT_GT(contact.size(), 100u);
-    const MeshDistance block(scene.parts[0].mesh), screw(scene.parts[1].mesh);
-    double worst = 0;
-    for (const Vec3d& p : contact) worst = std::max({worst, block.distance(p), screw.distance(p)});
-    EXPECT_LT(worst, 1e-4) << smooth_method_name(method);
+  for (Method extractor : {Method::marching_cubes, Method::dual_contouring}) {
+    for (SmoothMethod method :
+         {SmoothMethod::sinc, SmoothMethod::hc, SmoothMethod::taubin, SmoothMethod::laplacian}) {
+      SCOPED_TRACE(method_name(extractor));
+      MeshingOptions o;
+      o.method = extractor;
+      o.surfaces = Surfaces::conforming;
+      o.smooth = default_smoothing();
+      o.smooth.method = method;
+      const Scene scene = build_scene(image, o);
+      ASSERT_EQ(scene.parts.size(), 2u);
+      ASSERT_TRUE(scene.surface.has_value());
+      test::expect_sound_shells(scene);
+      const std::vector<Vec3d> contact = contact_vertices(*scene.surface);
+      ASSERT_GT(contact.size(), 100u);
+      const MeshDistance block(scene.parts[0].mesh), screw(scene.parts[1].mesh);
+      double worst = 0;
+      for (const Vec3d& p : contact)
+        worst = std::max({worst, block.distance(p), screw.distance(p)});
+      EXPECT_LT(worst, 1e-4) << smooth_method_name(method);
 
-    // The independent path on the same map leaves the two sides apart.
-    o.surfaces = Surfaces::independent;
-    const Scene apart = build_scene(image, o);
-    const MeshDistance block_apart(apart.parts[0].mesh);
-    std::vector<double> gaps;
-    for (const Vec3f& p : apart.parts[1].mesh.positions) {
-      const double d = block_apart.distance(to_double(p));
-      if (d < 0.5) gaps.push_back(d);  // the screw's side of the contact
+      // The independent path on the same map leaves the two sides apart.
+      o.surfaces = Surfaces::independent;
+      const Scene apart = build_scene(image, o);
+      const MeshDistance block_apart(apart.parts[0].mesh);
+      std::vector<double> gaps;
+      for (const Vec3f& p : apart.parts[1].mesh.positions) {
+        const double d = block_apart.distance(to_double(p));
+        if (d < 0.5) gaps.push_back(d);  // the screw's side of the contact
+      }
+      ASSERT_FALSE(gaps.empty());
+      EXPECT_GT(percentile(gaps, 0.9), 0.01) << smooth_method_name(method);
     }
-    ASSERT_FALSE(gaps.empty());
-    EXPECT_GT(percentile(gaps, 0.9), 0.01) << smooth_method_name(method);
   }
 }
 
 TEST(JointSmoothing, ThePhantomKeepsItsContactsAndVolumes) {
   const Image image =
       test::label_image(make_phantom({.size = {256, 256, 102}, .spacing = {0.394, 0.394, 4}}));
-  MeshingOptions o;
-  o.surfaces = Surfaces::conforming;
-  const Scene conforming = build_scene(image, o);
-  o.surfaces = Surfaces::independent;
-  const Scene independent = build_scene(image, o);
-  ASSERT_EQ(conforming.parts.size(), independent.parts.size());
-  test::expect_sound_shells(conforming);
-  for (size_t p = 0; p < conforming.parts.size(); ++p) {
-    EXPECT_EQ(conforming.parts[p].name, independent.parts[p].name);
-    const double a = enclosed_volume(conforming.parts[p].mesh);
-    const double b = enclosed_volume(independent.parts[p].mesh);
-    // The same topology as on its own: one closed surface of the same genus.
-    EXPECT_EQ(measure_mesh(conforming.parts[p].mesh).euler,
-              measure_mesh(independent.parts[p].mesh).euler)
-        << conforming.parts[p].name;
-    // Bulky parts (the bones and the plate) keep their volume to 1 % as on their own.
-    if (conforming.parts[p].voxels > 10000) {
-      EXPECT_NEAR(a, b, 0.01 * b) << conforming.parts[p].name;
+  for (Method extractor : {Method::marching_cubes, Method::dual_contouring}) {
+    SCOPED_TRACE(method_name(extractor));
+    MeshingOptions o;
+    o.method = extractor;
+    o.surfaces = Surfaces::conforming;
+    const Scene conforming = build_scene(image, o);
+    o.surfaces = Surfaces::independent;
+    const Scene independent = build_scene(image, o);
+    ASSERT_EQ(conforming.parts.size(), independent.parts.size());
+    test::expect_sound_shells(conforming);
+    for (size_t p = 0; p < conforming.parts.size(); ++p) {
+      EXPECT_EQ(conforming.parts[p].name, independent.parts[p].name);
+      const double a = enclosed_volume(conforming.parts[p].mesh);
+      const double b = enclosed_volume(independent.parts[p].mesh);
+      // The same topology as on its own: one closed surface of the same genus.
+      EXPECT_EQ(measure_mesh(conforming.parts[p].mesh).euler,
+                measure_mesh(independent.parts[p].mesh).euler)
+          << conforming.parts[p].name;
+      // Bulky parts (the bones and the plate) keep their volume to 1 % as on their own.
+      if (conforming.parts[p].voxels > 10000) {
+        EXPECT_NEAR(a, b, 0.01 * b) << conforming.parts[p].name;
+      }
     }
-  }
-  // Every implant vertex on the bone contact is on both surfaces after the default smoothing.
-  const std::vector<Vec3d> contact = contact_vertices(*conforming.surface);
-  ASSERT_GT(contact.size(), 1000u);
-  std::vector<MeshDistance> shells;
-  for (const Part& part : conforming.parts) shells.emplace_back(part.mesh);
-  size_t on_two = 0;
-  for (const Vec3d& p : contact) {
-    int near = 0;
-    for (const MeshDistance& s : shells) near += s.distance(p) < 1e-4;
-    on_two += near >= 2;
-  }
-  EXPECT_EQ(on_two, contact.size());
-  // No implant triangle crosses a bone's. Smoothing alone folds the surface where the two
-  // fragments, the plate and the background meet (measured: 72 and 70 edge crossings with the
-  // two fragments; 3306 and 3318 with independent surfaces); the fold repair undoes it.
-  const SceneMeasures m = measure_scene(conforming, {});
-  ASSERT_EQ(m.contacts.size(), 8u);  // the plate on both fragments, the six screws
-  for (const ContactMeasures& c : m.contacts) {
-    const Part& a = conforming.parts[c.a];
-    const Part& b = conforming.parts[c.b];
-    EXPECT_EQ(test::crossings(a.mesh, b.mesh), 0u) << a.name << " " << b.name;
-    if (b.label == 2 && b.component == 1) {  // the plate: the independent surfaces do cross
-      EXPECT_GT(test::crossings(independent.parts[c.a].mesh, independent.parts[c.b].mesh), 1000u)
-          << a.name << " " << b.name;
+    // Every implant vertex on the bone contact is on both surfaces after the default smoothing.
+    const std::vector<Vec3d> contact = contact_vertices(*conforming.surface);
+    ASSERT_GT(contact.size(), 1000u);
+    std::vector<MeshDistance> shells;
+    for (const Part& part : conforming.parts) shells.emplace_back(part.mesh);
+    size_t on_two = 0;
+    for (const Vec3d& p : contact) {
+      int near = 0;
+      for (const MeshDistance& s : shells) near += s.distance(p) < 1e-4;
+      on_two += near >= 2;
+    }
+    EXPECT_EQ(on_two, contact.size());
+    // No implant triangle crosses a bone's. Smoothing alone folds the surface where the two
+    // fragments, the plate and the background meet (measured: 72 and 70 edge crossings with the
+    // two fragments; 3306 and 3318 with independent surfaces); the fold repair undoes it.
+    const SceneMeasures m = measure_scene(conforming, {});
+    ASSERT_EQ(m.contacts.size(), 8u);  // the plate on both fragments, the six screws
+    for (const ContactMeasures& c : m.contacts) {
+      const Part& a = conforming.parts[c.a];
+      const Part& b = conforming.parts[c.b];
+      EXPECT_EQ(test::crossings(a.mesh, b.mesh), 0u) << a.name << " " << b.name;
+      if (b.label == 2 && b.component == 1) {  // the plate: the independent surfaces do cross
+        EXPECT_GT(test::crossings(independent.parts[c.a].mesh, independent.parts[c.b].mesh), 1000u)
+            << a.name << " " << b.name;
+      }
     }
   }
 }
@@ -144,34 +153,38 @@ TEST(JointSmoothing, ThePhantomKeepsItsContactsAndVolumes) {
 // opposite.
 TEST(JointSmoothing, TouchingPartsNeitherCrossNorShareNormals) {
   const Image image = test::label_image(screw_in_block());
-  MeshingOptions o;
-  o.surfaces = Surfaces::conforming;
-  const Scene scene = build_scene(image, o);
-  ASSERT_EQ(scene.parts.size(), 2u);
-  EXPECT_EQ(test::crossings(scene.parts[0].mesh, scene.parts[1].mesh), 0u);
-  // The independent surfaces of the same map do cross (smoothing moved the sides apart and into
-  // each other): the check can fail.
-  o.surfaces = Surfaces::independent;
-  const Scene apart = build_scene(image, o);
-  EXPECT_GT(test::crossings(apart.parts[0].mesh, apart.parts[1].mesh), 0u);
+  for (Method extractor : {Method::marching_cubes, Method::dual_contouring}) {
+    SCOPED_TRACE(method_name(extractor));
+    MeshingOptions o;
+    o.method = extractor;
+    o.surfaces = Surfaces::conforming;
+    const Scene scene = build_scene(image, o);
+    ASSERT_EQ(scene.parts.size(), 2u);
+    EXPECT_EQ(test::crossings(scene.parts[0].mesh, scene.parts[1].mesh), 0u);
+    // The independent surfaces of the same map do cross (smoothing moved the sides apart and into
+    // each other): the check can fail.
+    o.surfaces = Surfaces::independent;
+    const Scene apart = build_scene(image, o);
+    EXPECT_GT(test::crossings(apart.parts[0].mesh, apart.parts[1].mesh), 0u);
 
-  // Normals at the vertices both shells have, by position (the contact's vertices).
-  std::map<std::array<float, 3>, Vec3f> block_normal;
-  const TriMesh& block = scene.parts[0].mesh;
-  for (size_t v = 0; v < block.positions.size(); ++v) {
-    const Vec3f p = block.positions[v];
-    block_normal[{p.x, p.y, p.z}] = block.normals[v];
+    // Normals at the vertices both shells have, by position (the contact's vertices).
+    std::map<std::array<float, 3>, Vec3f> block_normal;
+    const TriMesh& block = scene.parts[0].mesh;
+    for (size_t v = 0; v < block.positions.size(); ++v) {
+      const Vec3f p = block.positions[v];
+      block_normal[{p.x, p.y, p.z}] = block.normals[v];
+    }
+    std::vector<double> dots;
+    const TriMesh& screw = scene.parts[1].mesh;
+    for (size_t v = 0; v < screw.positions.size(); ++v) {
+      const Vec3f p = screw.positions[v];
+      const auto it = block_normal.find({p.x, p.y, p.z});
+      if (it != block_normal.end())
+        dots.push_back(dot(to_double(it->second), to_double(screw.normals[v])));
+    }
+    ASSERT_GT(dots.size(), 100u);
+    EXPECT_LT(percentile(dots, 0.5), -0.99);  // inside the contact: opposite
   }
-  std::vector<double> dots;
-  const TriMesh& screw = scene.parts[1].mesh;
-  for (size_t v = 0; v < screw.positions.size(); ++v) {
-    const Vec3f p = screw.positions[v];
-    const auto it = block_normal.find({p.x, p.y, p.z});
-    if (it != block_normal.end())
-      dots.push_back(dot(to_double(it->second), to_double(screw.normals[v])));
-  }
-  ASSERT_GT(dots.size(), 100u);
-  EXPECT_LT(percentile(dots, 0.5), -0.99);  // inside the contact: opposite
 }
 
 // The report's contacts: every pair of touching parts with its area, and the largest distance
@@ -240,7 +253,10 @@ TEST(JointSmoothing, RefusesWhatItCannotDo) {
   MeshingOptions o;
   o.surfaces = Surfaces::conforming;
   o.method = Method::dual_contouring;
+  EXPECT_NO_THROW(resolve_meshing_options(o));
+  o.dc_tolerance_mm = 0.1;
   EXPECT_THROW(resolve_meshing_options(o), Error);
+  o.dc_tolerance_mm = 0;
   o.method = Method::marching_cubes;
   o.iso = 100.0;
   EXPECT_THROW(resolve_meshing_options(o), Error);

@@ -10,63 +10,25 @@
 #include "segmesh/marching_cubes.hpp"
 #include "segmesh/mesh_measures.hpp"
 #include "segmesh/phantom.hpp"
+#include "support/labelled_surface_checks.hpp"
 #include "support/test_fields.hpp"
 
 namespace segmesh {
 namespace {
 
-struct Extracted {
-  Components components;
-  std::vector<size_t> parts;
-  LabelledSurface surface;
-  std::vector<TriMesh> shells;
-};
+using Extracted = test::ExtractedLabels;
+using test::expect_closed_shells;
+using test::outer_volume;
 
 Extracted extract(const LabelVolume& v, int connectivity = 26) {
-  Extracted x;
-  x.components = find_components(v, {.connectivity = connectivity});
-  for (size_t c = 0; c < x.components.components.size(); ++c) x.parts.push_back(c);
-  x.surface = multi_label_marching_cubes(v.grid, x.components, x.parts, connectivity);
-  x.shells = part_shells(x.surface);
-  return x;
-}
-
-// The volume inside the surface's outer boundary (its triangles against the background): what the
-// parts' shells enclose together when every contact is shared (each counts once from each side).
-double outer_volume(const LabelledSurface& surface) {
-  TriMesh outer;
-  outer.positions = surface.mesh.positions;
-  for (size_t t = 0; t < surface.sides.size(); ++t) {
-    const auto [in, out] = surface.sides[t];
-    if ((in == 0) == (out == 0)) continue;
-    const uint32_t* i = &surface.mesh.indices[3 * t];
-    if (out == 0) {
-      outer.indices.insert(outer.indices.end(), {i[0], i[1], i[2]});
-    } else {
-      outer.indices.insert(outer.indices.end(), {i[0], i[2], i[1]});
-    }
-  }
-  return enclosed_volume(outer);
-}
-
-void expect_closed_shells(const Extracted& x, const std::string& what) {
-  ASSERT_EQ(x.shells.size(), x.parts.size()) << what;
-  for (size_t p = 0; p < x.shells.size(); ++p) {
-    const MeshMeasures m = measure_mesh(x.shells[p]);
-    EXPECT_TRUE(m.closed()) << what << " part " << p << ": boundary " << m.boundary_edges
-                            << ", non-manifold " << m.nonmanifold_edges << ", winding "
-                            << m.winding_errors;
-    EXPECT_EQ(m.nonmanifold_vertices, 0) << what << " part " << p;
-    EXPECT_GT(m.volume_mm3, 0) << what << " part " << p;
-  }
+  return test::extract_labels(v, connectivity,
+                              [&](const Components& c, const std::vector<size_t>& parts) {
+                                return multi_label_marching_cubes(v.grid, c, parts, connectivity);
+                              });
 }
 
 TEST(MultiLabelMarchingCubes, TwoTouchingBoxesShareTheirContact) {
-  LabelVolume v = test::blank_labels({12, 10, 10});
-  for (int k = 2; k < 8; ++k)
-    for (int j = 2; j < 8; ++j)
-      for (int i = 2; i < 10; ++i) v.at(i, j, k) = i < 6 ? 1 : 2;
-  const Extracted x = extract(v);
+  const Extracted x = extract(test::two_touching_boxes());
   expect_closed_shells(x, "boxes");
   // The two shells' volumes add up to what the outer boundary encloses: the contact is shared.
   const double sum = enclosed_volume(x.shells[0]) + enclosed_volume(x.shells[1]);
@@ -133,11 +95,7 @@ TEST(MultiLabelMarchingCubes, RandomMultiLabelFieldsGiveClosedManifoldShells) {
   for (int round = 0; round < 12; ++round) {
     const int labels = 2 + round % 5;
     for (int connectivity : {6, 18, 26}) {
-      LabelVolume v = test::blank_labels({11, 10, 9});
-      for (int64_t k = 1; k < 8; ++k)
-        for (int64_t j = 1; j < 9; ++j)
-          for (int64_t i = 1; i < 10; ++i) v.at(i, j, k) = int32_t(rng() % (labels + 1));
-      const Extracted x = extract(v, connectivity);
+      const Extracted x = extract(test::random_labels(rng, labels), connectivity);
       expect_closed_shells(x, "round " + std::to_string(round) + " connectivity " +
                                   std::to_string(connectivity));
       // The parts' volumes add up to the volume inside the outer boundary: every contact is

@@ -124,8 +124,8 @@ TEST(MeshingSettings, SurfacesAreAutomaticUntilResolved) {
   EXPECT_EQ(meshing_options(s).surfaces, Surfaces::conforming);
   s.method = Method::dual_contouring;
   EXPECT_EQ(meshing_options(s).surfaces, Surfaces::independent);
-  s.surfaces = Surfaces::conforming;  // the core refuses it with Dual Contouring
-  EXPECT_THROW(meshing_request(s), Error);
+  s.surfaces = Surfaces::conforming;  // asked for by name, Dual Contouring gives it
+  EXPECT_EQ(meshing_options(s).surfaces, Surfaces::conforming);
   s.method = Method::marching_cubes;
   EXPECT_EQ(meshing_request(s).surfaces, Surfaces::conforming);
 }

@@ -13,12 +13,6 @@ namespace segmesh::dc {
 
 namespace {
 
-// The cell edge (marching_cubes_table.hpp numbering) along `axis` at cell coordinates (cu, cv)
-// along u and v.
-int local_edge(int axis, int cu, int cv) {
-  return axis * 4 + (axis == 1 ? cv + 2 * cu : cu + 2 * cv);
-}
-
 bool triangulable(const Polygon& p) {
   if (p.n <= 4) return true;
   std::vector<std::array<int, 3>> unused;

@@ -27,6 +27,13 @@ inline constexpr int kQuadrantDu[4] = {0, 0, -1, -1};
 inline constexpr int kQuadrantDv[4] = {-1, 0, 0, -1};
 inline constexpr bool kQuadrantForward[4] = {true, false, true, false};
 
+// The cell edge (marching_cubes_table.hpp numbering) along `axis` at cell coordinates (cu, cv)
+// along u and v; the cell of quadrant q holds the edge as local_edge(axis, -kQuadrantDu[q],
+// -kQuadrantDv[q]).
+inline int local_edge(int axis, int cu, int cv) {
+  return axis * 4 + (axis == 1 ? cv + 2 * cu : cu + 2 * cv);
+}
+
 inline constexpr int kMaxPolygon = 12;
 
 // The first n entries are set (the rest stays uninitialised: one is made per cut edge).

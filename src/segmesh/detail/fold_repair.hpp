@@ -3,8 +3,8 @@
 // bone fragments, the plate and the background meet, with 4 mm slices), the vertices of every
 // crossing pair of triangles go back toward their extracted positions until nothing crosses.
 //
-// Only the triangles near the junctions are examined (every corner on a junction curve or next
-// to one): away from them one interface is smoothed as a single mesh is. A round
+// Only the triangles near the junctions are examined (every corner within kFoldReach edges of a
+// junction curve): away from them one interface is smoothed as a single mesh is. A round
 // finds every pair of those triangles (sharing no vertex) where an edge of one passes through
 // the interior of the other, halves the displacement of the pair's six vertices (from the
 // extracted position to the smoothed one), and looks again; after kFoldRounds rounds the
@@ -24,6 +24,7 @@
 namespace segmesh {
 
 inline constexpr int kFoldRounds = 6;
+inline constexpr int kFoldReach = 2;
 
 // mesh.positions are the smoothed positions, `extracted` the positions before smoothing, `role`
 // the vertices' smoothing roles. Returns how many vertices were moved back.

@@ -54,6 +54,39 @@ class MaterialRows {
         [&](int64_t s, int64_t t, const auto& state) { visit(s, t, state.value); });
   }
 
+  // Calls visit(i, materials) for every cell of row j of slab k whose corners are not all one
+  // material (and a few whose corners are, which the caller skips), i ascending (corner numbering
+  // of marching_cubes_table.hpp): the stretches where the four rows do not change cost nothing.
+  template <class Visit>
+  void cells(int64_t j, int64_t k, Visit&& visit) const {
+    const std::array<std::span<const MaterialRun>, 4> r{row(j, k), row(j + 1, k), row(j, k + 1),
+                                                        row(j + 1, k + 1)};
+    if (r[0].empty() && r[1].empty() && r[2].empty() && r[3].empty()) return;
+    // Row n holds corners 2n (left face) and 2n + 1 (right face).
+    std::array<uint32_t, 4> face{};
+    int64_t first = -1;
+    uint32_t m[8];
+    auto emit = [&](int64_t i, const std::array<uint32_t, 4>& left,
+                    const std::array<uint32_t, 4>& right) {
+      for (int n = 0; n < 4; ++n) {
+        m[2 * n] = left[n];
+        m[2 * n + 1] = right[n];
+      }
+      visit(i, m);
+    };
+    segments<4>(r, [&](int64_t s, int64_t, const std::array<uint32_t, 4>& next) {
+      if (first >= 0) {
+        const bool uniform = face[0] == face[1] && face[1] == face[2] && face[2] == face[3];
+        if (!uniform)
+          for (int64_t i = first; i < s - 1; ++i) emit(i, face, face);
+        emit(s - 1, face, next);  // the cell across the change (may be uniform in the end)
+      }
+      first = s;
+      face = next;
+    });
+    // The last interval reaches the margin, where every row is background.
+  }
+
  private:
   std::array<int64_t, 3> dims_{};
   Grid grid_;

@@ -1,0 +1,350 @@
+#include "segmesh/multi_label_dual_contouring.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <numeric>
+#include <vector>
+
+#include "segmesh/detail/dc_neighbourhood_keys.hpp"
+#include "segmesh/detail/dc_polygons.hpp"
+#include "segmesh/detail/dc_vertices.hpp"
+#include "segmesh/detail/dual_contouring_table.hpp"
+#include "segmesh/detail/marching_cubes_table.hpp"
+#include "segmesh/detail/material_faces.hpp"
+#include "segmesh/detail/material_rows.hpp"
+#include "segmesh/vec3.hpp"
+
+namespace segmesh {
+
+namespace {
+
+constexpr int16_t kJunction = -2;
+
+// The material of every grid point of the parts' common box (with its one-point margin).
+class MaterialGrid {
+ public:
+  explicit MaterialGrid(const MaterialRows& rows) : dims_(rows.dims()) {
+    material_.assign(static_cast<size_t>(dims_[0] * dims_[1] * dims_[2]), 0);
+    tbb::parallel_for(int64_t{0}, dims_[2], [&](int64_t k) {
+      for (int64_t j = 0; j < dims_[1]; ++j)
+        for (const MaterialRun& r : rows.row(j, k))
+          std::fill(material_.begin() + index(r.x_begin, j, k),
+                    material_.begin() + index(r.x_end, j, k), r.material);
+    });
+  }
+  const std::array<int64_t, 3>& dims() const { return dims_; }
+  int64_t index(int64_t i, int64_t j, int64_t k) const { return (k * dims_[1] + j) * dims_[0] + i; }
+  uint32_t at(int64_t i, int64_t j, int64_t k) const {
+    if (i < 0 || j < 0 || k < 0 || i >= dims_[0] || j >= dims_[1] || k >= dims_[2]) return 0;
+    return material_[static_cast<size_t>(index(i, j, k))];
+  }
+ private:
+  std::array<int64_t, 3> dims_;
+  std::vector<uint32_t> material_;
+};
+
+// A cell whose corners are not all one material.
+struct CutCell {
+  int32_t i = 0;                   // its x
+  uint32_t first_vertex = 0;       // slab-local until the slabs are joined
+  int16_t cs = 0;                  // a binary cell: the winner's case; kJunction
+  uint8_t vertices = 0;            // its vertices: first_vertex ..
+  uint8_t cut_lo = 0, cut_hi = 0;  // its cut edges (bits 0..7, 8..11)
+  std::array<int8_t, 12> piece{};  // a junction cell: each cut edge's piece
+  uint32_t winner = 0;             // a binary cell: the material inside
+  uint16_t cut() const { return uint16_t(cut_lo | cut_hi << 8); }
+};
+
+// Classifies a cell from its corners' materials; false when they are all one.
+bool classify(const uint32_t* m, bool joined_by_winner, const DcTable& table, CutCell& cell) {
+  uint32_t first = m[0], second = m[0];
+  bool third = false;
+  for (int c = 1; c < 8; ++c) {
+    if (m[c] == first) continue;
+    if (second == first)
+      second = m[c];
+    else if (m[c] != second)
+      third = true;
+  }
+  if (second == first) return false;
+  uint16_t cut = 0;
+  for (int e = 0; e < 12; ++e)
+    if (m[kMcEdgeCorner[e][0]] != m[kMcEdgeCorner[e][1]]) cut |= uint16_t(1u << e);
+  cell.cut_lo = uint8_t(cut & 0xff);
+  cell.cut_hi = uint8_t(cut >> 8);
+  if (!third) {
+    cell.winner = winning_material(first, second);
+    int cs = 0;
+    for (int c = 0; c < 8; ++c)
+      if (m[c] == cell.winner) cs |= 1 << c;
+    cell.cs = int16_t(cs);
+    cell.vertices = table.cases[size_t(cs)].piece_count;
+    return true;
+  }
+  // A junction cell: its cut edges (0..11) and face centres (12..17) joined by the face rule.
+  std::array<int8_t, 18> parent;
+  std::iota(parent.begin(), parent.end(), int8_t{0});
+  auto find = [&](int x) {
+    while (parent[size_t(x)] != x) x = parent[size_t(x)] = parent[size_t(parent[size_t(x)])];
+    return x;
+  };
+  FaceSegment s[4];
+  for (int f = 0; f < 6; ++f) {
+    const int n = face_segments(m, f, joined_by_winner, s);
+    for (int q = 0; q < n; ++q) parent[size_t(find(s[q].p))] = int8_t(find(s[q].q));
+  }
+  std::array<int8_t, 18> piece_of_root;
+  piece_of_root.fill(-1);
+  cell.cs = kJunction;
+  cell.piece.fill(-1);
+  int pieces = 0;
+  for (int e = 0; e < 12; ++e) {
+    if (!(cut >> e & 1)) continue;
+    int8_t& p = piece_of_root[size_t(find(e))];
+    if (p < 0) p = int8_t(pieces++);
+    cell.piece[size_t(e)] = p;
+  }
+  cell.vertices = uint8_t(pieces);
+  return true;
+}
+
+// The cut cells of one slab of cells (z = k), by row.
+struct Slab {
+  std::vector<CutCell> cells;
+  std::vector<uint32_t> row_first;  // cells of row j: [row_first[j], row_first[j + 1])
+  uint32_t vertices = 0;
+  uint64_t triangles = 0, extra = 0;  // the polygons' triangles and centroid vertices it emits
+};
+
+class Extractor {
+ public:
+  Extractor(const MaterialRows& rows, const DcOptions& options, Progress& progress)
+      : rows_(rows),
+        grid_(rows.grid()),
+        materials_(rows),
+        table_(dc_table(options.connectivity)),
+        joined_by_winner_(options.connectivity != 6),
+        options_{.connectivity = options.connectivity,
+                 .svd_eps = options.svd_eps,
+                 .vertex_normals = false},
+        solve_{grid_, options_, table_, false},
+        progress_(progress),
+        n_(materials_.dims()) {}
+
+  LabelledSurface run() {
+    LabelledSurface out;
+    if (rows_.empty()) return out;
+    slabs_.resize(size_t(n_[2] - 1));
+    tbb::parallel_for(int64_t{0}, n_[2] - 1, [&](int64_t k) {
+      throw_if_cancelled(progress_);
+      scan_slab(k);
+    });
+    progress_.update(0.3);
+    // Vertex ids: the slabs' cells in order.
+    uint32_t vertices = 0;
+    for (Slab& s : slabs_) {
+      for (CutCell& c : s.cells) c.first_vertex += vertices;
+      vertices += s.vertices;
+    }
+    out.mesh.positions.resize(vertices);
+    tbb::parallel_for(int64_t{0}, n_[2] - 1, [&](int64_t k) {
+      for (size_t r = 0; r + 1 < slabs_[size_t(k)].row_first.size(); ++r)
+        for (uint32_t c = slabs_[size_t(k)].row_first[r]; c < slabs_[size_t(k)].row_first[r + 1];
+             ++c)
+          place_vertices(int64_t(r), k, slabs_[size_t(k)].cells[c], out.mesh.positions.data());
+    });
+    progress_.update(0.6);
+    tbb::parallel_for(int64_t{0}, n_[2] - 1, [&](int64_t k) {
+      throw_if_cancelled(progress_);
+      count_polygons(k);
+    });
+    uint64_t triangles = 0, extra = vertices;
+    std::vector<uint64_t> first_triangle(slabs_.size()), first_extra(slabs_.size());
+    for (size_t k = 0; k < slabs_.size(); ++k) {
+      first_triangle[k] = triangles;
+      first_extra[k] = extra;
+      triangles += slabs_[k].triangles;
+      extra += slabs_[k].extra;
+    }
+    mesh_id_count(extra, "multi-label dual contouring");
+    out.mesh.positions.resize(size_t(extra));
+    out.mesh.indices.resize(size_t(3 * triangles));
+    out.sides.resize(size_t(triangles));
+    tbb::parallel_for(int64_t{0}, n_[2] - 1, [&](int64_t k) {
+      throw_if_cancelled(progress_);
+      write_polygons(k, first_triangle[size_t(k)], uint32_t(first_extra[size_t(k)]), out);
+    });
+    for (const Slab& s : slabs_)
+      for (const CutCell& c : s.cells)
+        if (c.cs == kJunction)
+          for (uint32_t v = 0; v < c.vertices; ++v)
+            out.junction_vertices.push_back(c.first_vertex + v);
+    progress_.update(1.0);
+    return out;
+  }
+
+ private:
+  void scan_slab(int64_t k) {
+    Slab& slab = slabs_[size_t(k)];
+    slab.row_first.assign(size_t(n_[1]), 0);
+    for (int64_t j = 0; j + 1 < n_[1]; ++j) {
+      slab.row_first[size_t(j)] = uint32_t(slab.cells.size());
+      rows_.cells(j, k, [&](int64_t i, const uint32_t* m) {
+        CutCell cell;
+        if (!classify(m, joined_by_winner_, table_, cell)) return;
+        cell.i = int32_t(i);
+        cell.first_vertex = slab.vertices;
+        slab.vertices += cell.vertices;
+        slab.cells.push_back(cell);
+      });
+    }
+    slab.row_first[size_t(n_[1] - 1)] = uint32_t(slab.cells.size());
+  }
+
+  // The cut cell (i, j, k) (it exists: one of its edges is cut).
+  const CutCell& cell_at(int64_t i, int64_t j, int64_t k) const {
+    const Slab& s = slabs_[size_t(k)];
+    const auto begin = s.cells.begin() + s.row_first[size_t(j)];
+    const auto end = s.cells.begin() + s.row_first[size_t(j) + 1];
+    return *std::lower_bound(begin, end, i, [](const CutCell& c, int64_t x) { return c.i < x; });
+  }
+
+  // The 4 x 4 x 4 neighbourhood of cell (i, j, k) in material w's indicator, as single-label Dual
+  // Contouring keys it (dc_neighbourhood_keys.hpp: the cell's corners at 1 and 2).
+  uint64_t indicator_key(uint32_t w, int64_t i, int64_t j, int64_t k) const {
+    uint64_t key = 0;
+    for (int z = 0; z < 4; ++z)
+      for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x)
+          if (materials_.at(i - 1 + x, j - 1 + y, k - 1 + z) == w) key |= dc::key_bit(x, y, z);
+    return key;
+  }
+
+  void place_vertices(int64_t j, int64_t k, const CutCell& cell, Vec3f* positions) const {
+    const int64_t i = cell.i;
+    auto emit = [&](uint32_t v, Vec3d offset) {
+      positions[v] = to_float(grid_.to_world(Vec3d{double(i), double(j), double(k)} + offset));
+    };
+    if (cell.cs != kJunction) {
+      // The winner's sheets as single-label Dual Contouring places them.
+      const dc::CellVertices cv =
+          dc::solve_key(solve_, indicator_key(cell.winner, i, j, k), cell.cs, nullptr);
+      for (int p = 0; p < cell.vertices; ++p)
+        emit(cell.first_vertex + uint32_t(p), cv.offset[size_t(p)]);
+      return;
+    }
+    // A junction cell: each piece at the mass point of its cut edges' midpoints.
+    std::array<Vec3d, 12> sum{};
+    std::array<int, 12> count{};
+    const uint16_t cut = cell.cut();
+    for (int e = 0; e < 12; ++e) {
+      if (!(cut >> e & 1)) continue;
+      const size_t p = size_t(cell.piece[size_t(e)]);
+      sum[p] = sum[p] + cell_point(e);
+      ++count[p];
+    }
+    const Vec3d lo{kDcCellMargin, kDcCellMargin, kDcCellMargin};
+    const Vec3d hi{1 - kDcCellMargin, 1 - kDcCellMargin, 1 - kDcCellMargin};
+    for (int p = 0; p < cell.vertices; ++p) {
+      const Vec3d mass = (1.0 / count[size_t(p)]) * sum[size_t(p)];
+      emit(cell.first_vertex + uint32_t(p), keep_in_box(mass, mass, lo, hi));
+    }
+  }
+
+  // Calls visit(polygon, inside, outside) for each cut edge slab k's cells own (their edges 3, 7
+  // and 11: the cell is the edge's quadrant (-1, -1)).
+  template <class Visit>
+  void polygons(int64_t k, Visit&& visit) const {
+    const Slab& s = slabs_[size_t(k)];
+    const bool mirrored = grid_.mirrored();
+    for (size_t r = 0; r + 1 < s.row_first.size(); ++r) {
+      const int64_t j = int64_t(r);
+      for (uint32_t ci = s.row_first[r]; ci < s.row_first[r + 1]; ++ci) {
+        const CutCell& cell = s.cells[ci];
+        for (int axis = 0; axis < 3; ++axis) {
+          const int e = 4 * axis + 3;
+          if (!(cell.cut() >> e & 1)) continue;
+          const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+          std::array<int64_t, 3> g{cell.i, j, k};
+          ++g[size_t(u)];
+          ++g[size_t(v)];
+          std::array<int64_t, 3> g1 = g;
+          ++g1[size_t(axis)];
+          const uint32_t m0 = materials_.at(g[0], g[1], g[2]);
+          const uint32_t m1 = materials_.at(g1[0], g1[1], g1[2]);
+          const uint32_t inside = winning_material(m0, m1);
+          std::array<dc::CellRef, 4> refs;
+          for (int q = 0; q < 4; ++q) {
+            std::array<int64_t, 3> c = g;
+            c[size_t(u)] += dc::kQuadrantDu[q];
+            c[size_t(v)] += dc::kQuadrantDv[q];
+            const CutCell& other = cell_at(c[0], c[1], c[2]);
+            if (other.cs == kJunction) {
+              const int le = dc::local_edge(axis, -dc::kQuadrantDu[q], -dc::kQuadrantDv[q]);
+              refs[size_t(q)] = {dc::kOneSheet,
+                                 other.first_vertex + uint32_t(other.piece[size_t(le)])};
+            } else {
+              refs[size_t(q)] = {other.vertices == 1 ? dc::kOneSheet : int(other.cs),
+                                 other.first_vertex};
+            }
+          }
+          visit(dc::polygon(table_, axis, refs, inside == m0, mirrored), inside,
+                inside == m0 ? m1 : m0);
+        }
+      }
+    }
+  }
+
+  void count_polygons(int64_t k) {
+    Slab& s = slabs_[size_t(k)];
+    polygons(k, [&](const dc::Polygon& p, uint32_t, uint32_t) {
+      const auto [t, x] = dc::polygon_cost(p);
+      s.triangles += t;
+      s.extra += x;
+    });
+  }
+
+  void write_polygons(int64_t k, uint64_t first_triangle, uint32_t extra, LabelledSurface& out) {
+    uint32_t* idx = out.mesh.indices.data() + 3 * first_triangle;
+    std::array<uint32_t, 2>* sides = out.sides.data() + first_triangle;
+    std::vector<dc::PendingQuad> quads;
+    std::vector<std::array<int, 3>> scratch;
+    polygons(k, [&](const dc::Polygon& p, uint32_t inside, uint32_t outside) {
+      const uint64_t t = dc::polygon_cost(p).first;
+      for (uint64_t q = 0; q < t; ++q) *sides++ = {inside, outside};
+      if (p.n == 4) {
+        quads.push_back({idx, {p.vertex[0], p.vertex[1], p.vertex[2], p.vertex[3]}});
+        idx += 6;
+        return;
+      }
+      idx = dc::write_polygon(p, out.mesh, extra, idx, scratch);
+    });
+    dc::split_quads(out.mesh.positions.data(), quads.data(), quads.size());
+  }
+
+  const MaterialRows& rows_;
+  const Grid& grid_;
+  const MaterialGrid materials_;
+  const DcTable& table_;
+  const bool joined_by_winner_;
+  const DcOptions options_;  // what single-label Dual Contouring of a 0/1 field uses
+  const dc::SheetSolve solve_;
+  Progress& progress_;
+  const std::array<int64_t, 3> n_;
+  std::vector<Slab> slabs_;
+};
+
+}  // namespace
+
+LabelledSurface multi_label_dual_contouring(const Grid& grid, const Components& components,
+                                            std::span<const size_t> parts, const DcOptions& options,
+                                            Progress& progress) {
+  const MaterialRows rows(grid, components, parts);
+  LabelledSurface surface = Extractor(rows, options, progress).run();
+  surface.part_count = parts.size();
+  return surface;
+}
+
+}  // namespace segmesh
