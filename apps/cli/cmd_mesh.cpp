@@ -52,8 +52,7 @@ void refuse_same_file(const std::string& path, const char* option, const fs::pat
   }
 }
 
-// --atlas: the conforming surface, so conforming surfaces (the default for label maps with
-// Marching Cubes); a .ply or .glb file in an existing folder (or the -o folder, made before the
+// --atlas: the conforming surface, so conforming surfaces (the default for label maps); a .ply or .glb file in an existing folder (or the -o folder, made before the
 // atlas is written) that is neither the input nor another output. `note` is why --surfaces
 // automatic chose independent surfaces (surfaces_note).
 void check_atlas(const MeshArgs& args, const MeshingOptions& options,

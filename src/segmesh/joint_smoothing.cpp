@@ -63,6 +63,45 @@ std::vector<VolumeCubic> material_cubics(size_t triangles, size_t materials, Add
   return total;
 }
 
+
+// A part enclosed by other parts keeps its volume only through them: the volume restoration moves
+// background-facing vertices, and it has none. Smoothing can flatten such a part when it is a
+// voxel or two (measured: single voxels of random label noise with Dual Contouring, whose vertices
+// there are all sheet vertices of one contact, smoothed to zero or slightly negative volume). A part
+// left with less than this fraction of its extracted volume gets its vertices back where they were
+// extracted; the surface stays one, so its contacts stay exact.
+constexpr double kCollapsedVolume = 0.25;
+
+void restore_collapsed_parts(LabelledSurface& surface, const std::vector<Vec3f>& original) {
+  TriMesh& mesh = surface.mesh;
+  std::vector<double> now(surface.part_count + 1, 0), before(surface.part_count + 1, 0);
+  auto volume = [](Vec3f a, Vec3f b, Vec3f c) {
+    return dot(to_double(a), cross(to_double(b), to_double(c))) / 6;
+  };
+  const size_t nt = surface.sides.size();
+  for (size_t t = 0; t < nt; ++t) {
+    const uint32_t* x = &mesh.indices[3 * t];
+    const double v = volume(mesh.positions[x[0]], mesh.positions[x[1]], mesh.positions[x[2]]);
+    const double w = volume(original[x[0]], original[x[1]], original[x[2]]);
+    const auto [inside, outside] = surface.sides[t];
+    now[inside] += v, before[inside] += w;
+    now[outside] -= v, before[outside] -= w;
+  }
+  std::vector<char> collapsed(now.size(), 0);
+  bool any = false;
+  for (size_t m = 1; m < now.size(); ++m)
+    any |= collapsed[m] = before[m] > 0 && now[m] < kCollapsedVolume * before[m];
+  if (!any) return;
+  for (size_t t = 0; t < nt; ++t) {
+    const auto [inside, outside] = surface.sides[t];
+    if (!collapsed[inside] && !collapsed[outside]) continue;
+    for (int c = 0; c < 3; ++c) {
+      const uint32_t v = mesh.indices[3 * t + size_t(c)];
+      mesh.positions[v] = original[v];
+    }
+  }
+}
+
 }  // namespace
 
 void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Progress& progress) {
@@ -133,6 +172,7 @@ void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Prog
     mesh.positions[i] = to_float(p);
   });
   repair_folds(mesh, original, topology.smooth.role);
+  restore_collapsed_parts(surface, original);
 }
 
 }  // namespace segmesh

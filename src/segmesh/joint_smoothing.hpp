@@ -15,7 +15,10 @@
 // part back the volume it enclosed before smoothing. Interfaces between parts and junction
 // curves are not moved by it, so they stay shared. A part with no surface against the
 // background (enclosed by others) keeps the volume smoothing leaves it; one smoothing nearly
-// erased (below a quarter of its volume) gets its background vertices back unsmoothed.
+// erased (below a quarter of its volume) gets its background vertices back unsmoothed, and after
+// the fold repair any part left below a quarter of its volume (a voxel or two enclosed by other
+// parts, flattened: met with Dual Contouring on random label noise) gets all its vertices back
+// where they were extracted.
 //
 // Where smoothing folded the surface near a junction (one sheet pulled through another), the
 // corners of the crossing triangles go back toward their extracted positions until nothing

@@ -74,16 +74,13 @@ std::string got(double v) {
 
 // What keeps a request from conforming surfaces, if anything: the one rule behind the automatic
 // choice, the refusal of --surfaces conforming and surfaces_note.
-// dual_contouring only keeps the automatic choice from conforming surfaces (asked for, Dual
-// Contouring gives them).
-enum class ConformingObstacle { none, dual_contouring, dc_tolerance, iso, presmooth };
+enum class ConformingObstacle { none, dc_tolerance, iso, presmooth };
 
 ConformingObstacle conforming_obstacle(const MeshingOptions& o) {
   if (o.iso) return ConformingObstacle::iso;
   if (o.volume_sigma_mm > 0) return ConformingObstacle::presmooth;
   if (o.method == Method::dual_contouring && o.dc_tolerance_mm > 0)
     return ConformingObstacle::dc_tolerance;
-  if (o.method != Method::marching_cubes) return ConformingObstacle::dual_contouring;
   return ConformingObstacle::none;
 }
 
@@ -93,9 +90,6 @@ std::optional<std::string> surfaces_note(const MeshingOptions& o) {
   // Grey values are no label map: nothing to say.
   if (o.surfaces != Surfaces::automatic || o.iso) return std::nullopt;
   switch (conforming_obstacle(o)) {
-    case ConformingObstacle::dual_contouring:
-      return "Dual Contouring meshes every part on its own: where parts touch, each has its own "
-             "surface (use --method mc for shared contacts)";
     case ConformingObstacle::dc_tolerance:
       return "--dc-tolerance simplifies every part's own surface: where parts touch, each has its "
              "own surface (decimate instead for shared contacts)";
@@ -146,7 +140,6 @@ MeshingOptions resolve_meshing_options(MeshingOptions o) {
         fail("--presmooth smooths each part's own field; with --surfaces conforming smooth the "
              "mesh instead (--smooth), or add --surfaces independent");
         break;
-      case ConformingObstacle::dual_contouring:
       case ConformingObstacle::none:
         break;
     }

@@ -40,10 +40,10 @@ std::string_view normals_name(NormalMethod normals);  // "central", "sobel"
 // surfaces that smoothing moves apart), or all at once as one surface whose contacts are meshed
 // once and smoothed once for both sides (conforming: multi_label_marching_cubes.hpp or
 // multi_label_dual_contouring.hpp, joint_smoothing.hpp; each part is still written as its own
-// closed shell). automatic, the default, resolves to conforming for label maps meshed with
-// Marching Cubes without --presmooth, and to independent otherwise (grey values, Dual Contouring,
-// presmoothing, --dc-tolerance: surfaces_note says why where parts could touch). Conforming Dual
-// Contouring is asked for by name; --presmooth, --iso and --dc-tolerance refuse it.
+// closed shell). automatic, the default, resolves to conforming for label maps (either method)
+// without --presmooth or --dc-tolerance, and to independent otherwise (grey values, presmoothing,
+// Dual Contouring's simplification: surfaces_note says why where parts could touch); asking for
+// conforming with those is an error.
 enum class Surfaces { automatic, independent, conforming };
 std::string_view surfaces_name(Surfaces surfaces);  // "automatic", "independent", "conforming"
 std::optional<Surfaces> parse_surfaces(std::string_view name);
@@ -82,8 +82,8 @@ struct MeshingOptions {
 // Idempotent.
 MeshingOptions resolve_meshing_options(MeshingOptions requested);
 
-// Why a request that leaves --surfaces automatic gets independent surfaces on a label map (Dual
-// Contouring, --presmooth), for front ends to say once when parts touch
+// Why a request that leaves --surfaces automatic gets independent surfaces on a label map
+// (--presmooth, --dc-tolerance), for front ends to say once when parts touch
 // (PipelineStats::parts_touch); nothing
 // when it gets conforming surfaces, asks for a kind itself, or meshes grey values.
 std::optional<std::string> surfaces_note(const MeshingOptions& requested);

@@ -1,10 +1,13 @@
 #include "segmesh/multi_label_dual_contouring.hpp"
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <numeric>
+#include <unordered_map>
 #include <vector>
 
 #include "segmesh/detail/dc_neighbourhood_keys.hpp"
@@ -14,6 +17,7 @@
 #include "segmesh/detail/marching_cubes_table.hpp"
 #include "segmesh/detail/material_faces.hpp"
 #include "segmesh/detail/material_rows.hpp"
+#include "segmesh/first_touch.hpp"
 #include "segmesh/vec3.hpp"
 
 namespace segmesh {
@@ -22,27 +26,69 @@ namespace {
 
 constexpr int16_t kJunction = -2;
 
-// The material of every grid point of the parts' common box (with its one-point margin).
+// The material of every grid point of the parts' common box (with its one-point margin), in the
+// narrowest of 1, 2 or 4 bytes that holds the part count.
 class MaterialGrid {
  public:
-  explicit MaterialGrid(const MaterialRows& rows) : dims_(rows.dims()) {
-    material_.assign(static_cast<size_t>(dims_[0] * dims_[1] * dims_[2]), 0);
+  MaterialGrid(const MaterialRows& rows, size_t parts)
+      : dims_(rows.dims()),
+        width_(parts < 0xff     ? 1
+               : parts < 0xffff ? 2
+                                : 4) {
+    resize_zeroed(bytes_, static_cast<size_t>(dims_[0] * dims_[1] * dims_[2]) * width_);
     tbb::parallel_for(int64_t{0}, dims_[2], [&](int64_t k) {
       for (int64_t j = 0; j < dims_[1]; ++j)
         for (const MaterialRun& r : rows.row(j, k))
-          std::fill(material_.begin() + index(r.x_begin, j, k),
-                    material_.begin() + index(r.x_end, j, k), r.material);
+          for (int64_t i = r.x_begin; i < r.x_end; ++i) set(index(i, j, k), r.material);
     });
   }
   const std::array<int64_t, 3>& dims() const { return dims_; }
-  int64_t index(int64_t i, int64_t j, int64_t k) const { return (k * dims_[1] + j) * dims_[0] + i; }
+  // The materials of points (i .. i + 3, j, k); outside the box the background.
+  void row4(int64_t i, int64_t j, int64_t k, uint32_t* m) const {
+    if (j < 0 || k < 0 || j >= dims_[1] || k >= dims_[2]) {
+      m[0] = m[1] = m[2] = m[3] = 0;
+      return;
+    }
+    if (i >= 0 && i + 4 <= dims_[0] && width_ == 1) {
+      const uint8_t* b = bytes_.data() + index(i, j, k);
+      m[0] = b[0], m[1] = b[1], m[2] = b[2], m[3] = b[3];
+      return;
+    }
+    for (int x = 0; x < 4; ++x) m[x] = at(i + x, j, k);
+  }
+  // Outside the box: the background.
   uint32_t at(int64_t i, int64_t j, int64_t k) const {
     if (i < 0 || j < 0 || k < 0 || i >= dims_[0] || j >= dims_[1] || k >= dims_[2]) return 0;
-    return material_[static_cast<size_t>(index(i, j, k))];
+    const size_t x = index(i, j, k);
+    if (width_ == 1) return bytes_[x];
+    if (width_ == 2) {
+      uint16_t m;
+      std::memcpy(&m, bytes_.data() + 2 * x, 2);
+      return m;
+    }
+    uint32_t m;
+    std::memcpy(&m, bytes_.data() + 4 * x, 4);
+    return m;
   }
+
  private:
+  size_t index(int64_t i, int64_t j, int64_t k) const {
+    return static_cast<size_t>((k * dims_[1] + j) * dims_[0] + i);
+  }
+  void set(size_t x, uint32_t m) {
+    if (width_ == 1) {
+      bytes_[x] = uint8_t(m);
+    } else if (width_ == 2) {
+      const uint16_t narrow = uint16_t(m);
+      std::memcpy(bytes_.data() + 2 * x, &narrow, 2);
+    } else {
+      std::memcpy(bytes_.data() + 4 * x, &m, 4);
+    }
+  }
+
   std::array<int64_t, 3> dims_;
-  std::vector<uint32_t> material_;
+  size_t width_;
+  std::vector<uint8_t> bytes_;
 };
 
 // A cell whose corners are not all one material.
@@ -120,10 +166,10 @@ struct Slab {
 
 class Extractor {
  public:
-  Extractor(const MaterialRows& rows, const DcOptions& options, Progress& progress)
+  Extractor(const MaterialRows& rows, size_t parts, const DcOptions& options, Progress& progress)
       : rows_(rows),
         grid_(rows.grid()),
-        materials_(rows),
+        materials_(rows, parts),
         table_(dc_table(options.connectivity)),
         joined_by_winner_(options.connectivity != 6),
         options_{.connectivity = options.connectivity,
@@ -216,9 +262,12 @@ class Extractor {
   uint64_t indicator_key(uint32_t w, int64_t i, int64_t j, int64_t k) const {
     uint64_t key = 0;
     for (int z = 0; z < 4; ++z)
-      for (int y = 0; y < 4; ++y)
+      for (int y = 0; y < 4; ++y) {
+        uint32_t m[4];
+        materials_.row4(i - 1, j - 1 + y, k - 1 + z, m);
         for (int x = 0; x < 4; ++x)
-          if (materials_.at(i - 1 + x, j - 1 + y, k - 1 + z) == w) key |= dc::key_bit(x, y, z);
+          if (m[x] == w) key |= dc::key_bit(x, y, z);
+      }
     return key;
   }
 
@@ -229,8 +278,13 @@ class Extractor {
     };
     if (cell.cs != kJunction) {
       // The winner's sheets as single-label Dual Contouring places them.
-      const dc::CellVertices cv =
-          dc::solve_key(solve_, indicator_key(cell.winner, i, j, k), cell.cs, nullptr);
+      // Solved once per neighbourhood and thread (the key decides the case, hence the solve).
+      const uint64_t key = indicator_key(cell.winner, i, j, k);
+      auto& solved = solved_.local();
+      auto it = solved.find(key);
+      if (it == solved.end())
+        it = solved.emplace(key, dc::solve_key(solve_, key, cell.cs, nullptr)).first;
+      const dc::CellVertices& cv = it->second;
       for (int p = 0; p < cell.vertices; ++p)
         emit(cell.first_vertex + uint32_t(p), cv.offset[size_t(p)]);
       return;
@@ -334,6 +388,7 @@ class Extractor {
   Progress& progress_;
   const std::array<int64_t, 3> n_;
   std::vector<Slab> slabs_;
+  mutable tbb::enumerable_thread_specific<std::unordered_map<uint64_t, dc::CellVertices>> solved_;
 };
 
 }  // namespace
@@ -342,7 +397,7 @@ LabelledSurface multi_label_dual_contouring(const Grid& grid, const Components& 
                                             std::span<const size_t> parts, const DcOptions& options,
                                             Progress& progress) {
   const MaterialRows rows(grid, components, parts);
-  LabelledSurface surface = Extractor(rows, options, progress).run();
+  LabelledSurface surface = Extractor(rows, parts.size(), options, progress).run();
   surface.part_count = parts.size();
   return surface;
 }

@@ -157,7 +157,7 @@ TEST(Cli, ConformingSurfacesGiveClosedPartsAndSayWhichRan) {
   EXPECT_TRUE(independent["contacts"].is_null());
   EXPECT_TRUE(independent["options"]["surfaces_note"].is_null());
 
-  // The default: conforming on a label map with Marching Cubes; Dual Contouring runs independent
+  // The default: conforming on a label map with either method; --presmooth runs independent
   // surfaces and says so once, on stderr and in the report.
   const auto by_default = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "d.glb") +
                                       " --report " + q(dir / "d.json"));
@@ -168,13 +168,24 @@ TEST(Cli, ConformingSurfacesGiveClosedPartsAndSayWhichRan) {
   const auto dc = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "dc.glb") +
                               " --method dc --report " + q(dir / "dc.json"));
   ASSERT_EQ(dc.exit_code, 0) << dc.err;
-  const size_t note = dc.err.find("note: Dual Contouring meshes every part on its own");
-  EXPECT_NE(note, std::string::npos) << dc.err;
-  EXPECT_EQ(dc.err.find("note:", note + 1), std::string::npos) << dc.err;  // once
+  EXPECT_EQ(dc.err.find("note:"), std::string::npos) << dc.err;
   std::ifstream in4(dir / "dc.json");
   const auto dc_report = nlohmann::json::parse(in4);
-  EXPECT_EQ(dc_report["options"]["surfaces"], "independent");
-  EXPECT_NE(dc_report["options"]["surfaces_note"].get<std::string>().find("Dual Contouring"),
+  EXPECT_EQ(dc_report["options"]["surfaces"], "conforming");
+  EXPECT_TRUE(dc_report["options"]["surfaces_note"].is_null());
+  ASSERT_TRUE(dc_report["contacts"].is_array());
+  EXPECT_GE(dc_report["contacts"].size(), 6u);
+  for (const auto& c : dc_report["contacts"]) EXPECT_LT(c["max_gap_mm"].get<double>(), 1e-4) << c;
+  const auto presmoothed = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "ps.glb") +
+                                       " --presmooth 0.2 --report " + q(dir / "ps.json"));
+  ASSERT_EQ(presmoothed.exit_code, 0) << presmoothed.err;
+  const size_t note = presmoothed.err.find("note: --presmooth smooths every part's own field");
+  EXPECT_NE(note, std::string::npos) << presmoothed.err;
+  EXPECT_EQ(presmoothed.err.find("note:", note + 1), std::string::npos) << presmoothed.err;  // once
+  std::ifstream in6(dir / "ps.json");
+  const auto ps_report = nlohmann::json::parse(in6);
+  EXPECT_EQ(ps_report["options"]["surfaces"], "independent");
+  EXPECT_NE(ps_report["options"]["surfaces_note"].get<std::string>().find("--presmooth"),
             std::string::npos);
   // The bones alone touch nowhere (the fracture gap, the fibula apart): nothing to say.
   const auto bones = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "b.glb") +
@@ -237,9 +248,9 @@ TEST(Cli, AtlasWritesTheConformingSurfaceAndIsRefusedWithoutIt) {
   for (const Case& c :
        {Case{"-o " + q(dir / "y.glb") + " --surfaces independent --atlas " + q(dir / "b.ply"),
              "--atlas needs --surfaces conforming"},
-        Case{"-o " + q(dir / "y.glb") + " --method dc --atlas " + q(dir / "b.ply"),
-             "--atlas needs --surfaces conforming, the one surface all parts share; Dual "
-             "Contouring meshes every part on its own"},
+        Case{"-o " + q(dir / "y.glb") + " --presmooth 0.5 --atlas " + q(dir / "b.ply"),
+             "--atlas needs --surfaces conforming, the one surface all parts share; --presmooth "
+             "smooths every part's own field"},
         Case{"-o " + q(dir / "y.glb") + " --surfaces conforming --atlas " + q(dir / "b.stl"),
              ".ply or .glb"},
         Case{"-o " + q(dir / "y.glb") + " --surfaces conforming --atlas " + q(dir / "." / "y.glb"),
@@ -276,7 +287,12 @@ TEST(Cli, AtlasWritesTheConformingSurfaceAndIsRefusedWithoutIt) {
   const auto by_default = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "d.stl") +
                                       " --atlas " + q(dir / "d.glb") + " --quiet");
   EXPECT_EQ(by_default.exit_code, 0) << by_default.err;
-  EXPECT_TRUE(test::folder_holds_only(dir, {"x.glb", "a.ply", "d.stl", "d.glb"}));
+  // Dual Contouring's surface is conforming too.
+  const auto dc = run_segmesh("mesh " + q(phantom) + " -o " + q(dir / "c.glb") +
+                              " --method dc --atlas " + q(dir / "c.ply") + " --quiet");
+  EXPECT_EQ(dc.exit_code, 0) << dc.err;
+  EXPECT_EQ(read_mesh(dir / "c.ply").parts.size(), 1u);
+  EXPECT_TRUE(test::folder_holds_only(dir, {"x.glb", "a.ply", "d.stl", "d.glb", "c.glb", "c.ply"}));
 }
 
 // Without --iterations each smoothing method runs its own default count (HC 2, Taubin 20, the

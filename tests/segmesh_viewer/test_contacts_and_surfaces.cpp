@@ -124,14 +124,17 @@ TEST(PartTable, IndependentSurfacesListNoContacts) {
             shared / 10);
 }
 
-TEST(PartTable, AutomaticSurfacesWithDualContouringSayWhy) {
+TEST(PartTable, AutomaticSurfacesWithDualContouringAreConforming) {
   MeshingSettings settings;
   settings.method = Method::dual_contouring;
   const ViewerState state = meshed(two_touching_boxes(), settings);
-  EXPECT_FALSE(state.scene.conforming);
-  EXPECT_EQ(state.surfaces, "independent surfaces: " + *surfaces_note(meshing_request(settings)));
-  EXPECT_NE(state.surfaces.find("Dual Contouring"), std::string::npos) << state.surfaces;
-  for (const PartTableRow& row : part_table(state.scene, state.stats)) EXPECT_TRUE(row.contacts.empty());
+  EXPECT_TRUE(state.scene.conforming);
+  EXPECT_TRUE(state.scene.surface.has_value());
+  EXPECT_FALSE(surfaces_note(meshing_request(settings)).has_value());
+  for (const PartTableRow& row : part_table(state.scene, state.stats)) {
+    ASSERT_EQ(row.contacts.size(), 1u);
+    EXPECT_TRUE(row.contacts[0].ends_with(" mm2, gap 0.000 mm")) << row.contacts[0];
+  }
 }
 
 TEST(PartTable, PartsThatTouchNowhereHaveNoContacts) {

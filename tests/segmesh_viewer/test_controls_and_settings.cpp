@@ -122,11 +122,9 @@ TEST(MeshingSettings, SurfacesAreAutomaticUntilResolved) {
   // The request keeps "automatic" (so surfaces_note can say why), the resolved options do not.
   EXPECT_EQ(meshing_request(s).surfaces, Surfaces::automatic);
   EXPECT_EQ(meshing_options(s).surfaces, Surfaces::conforming);
-  s.method = Method::dual_contouring;
-  EXPECT_EQ(meshing_options(s).surfaces, Surfaces::independent);
-  s.surfaces = Surfaces::conforming;  // asked for by name, Dual Contouring gives it
+  s.method = Method::dual_contouring;  // either method
   EXPECT_EQ(meshing_options(s).surfaces, Surfaces::conforming);
-  s.method = Method::marching_cubes;
+  s.surfaces = Surfaces::conforming;
   EXPECT_EQ(meshing_request(s).surfaces, Surfaces::conforming);
 }
 
