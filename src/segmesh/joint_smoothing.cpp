@@ -171,7 +171,7 @@ void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Prog
     if (m != 0 && restore[m].delta != 0) p = p + restore[m].delta * normal[i];
     mesh.positions[i] = to_float(p);
   });
-  repair_folds(mesh, original, topology.smooth.role);
+  repair_folds(mesh, original, topology.smooth.role, surface.fold_reach);
   restore_collapsed_parts(surface, original);
 }
 

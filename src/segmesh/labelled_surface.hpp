@@ -38,6 +38,12 @@ struct LabelledSurface {
   // ascending.
   std::vector<uint32_t> junction_vertices;
   size_t part_count = 0;
+  // How many rings of triangles around the junction curves the joint smoothing's fold repair
+  // examines (detail/fold_repair.hpp): 1 for Marching Cubes (every fold measured on the phantom
+  // had a junction corner); 2 for Dual Contouring, whose junction vertices sit at their pieces'
+  // mass points and whose sheets folded two rings out on the 3 mm TotalSegmentator map. Each ring
+  // more adds triangles to every round of the repair.
+  int fold_reach = 1;
 };
 
 // Whether two triangles' sides are one interface: the same two materials, wound either way

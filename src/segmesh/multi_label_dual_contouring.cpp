@@ -399,6 +399,7 @@ LabelledSurface multi_label_dual_contouring(const Grid& grid, const Components& 
   const MaterialRows rows(grid, components, parts);
   LabelledSurface surface = Extractor(rows, parts.size(), options, progress).run();
   surface.part_count = parts.size();
+  surface.fold_reach = 2;  // labelled_surface.hpp
   return surface;
 }
 

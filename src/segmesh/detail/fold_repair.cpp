@@ -12,12 +12,12 @@ namespace segmesh {
 
 namespace {
 
-// The triangles within reach of the junctions: every corner within kFoldReach edges of a curve or
+// The triangles within reach of the junctions: every corner within `reach` edges of a curve or
 // fixed vertex. (Every fold measured on the phantom with Marching Cubes had a triangle with a
 // junction corner; multi-label Dual Contouring on the 3 mm TotalSegmentator map folded 246 and
 // 256 triangles of two contacts with one ring examined and none with two.)
 std::vector<uint32_t> triangles_near_junctions(const TriMesh& mesh,
-                                               const std::vector<SmoothRole>& role) {
+                                               const std::vector<SmoothRole>& role, int reach) {
   const size_t nt = mesh.triangle_count();
   const uint32_t* idx = mesh.indices.data();
   std::vector<uint8_t> near(role.size(), 0);
@@ -27,7 +27,7 @@ std::vector<uint32_t> triangles_near_junctions(const TriMesh& mesh,
         role[x[2]] != SmoothRole::kSheet)
       near[x[0]] = near[x[1]] = near[x[2]] = 1;
   }
-  for (int ring = 1; ring < kFoldReach; ++ring) {
+  for (int ring = 1; ring < reach; ++ring) {
     std::vector<uint8_t> next = near;
     for (size_t t = 0; t < nt; ++t) {
       const uint32_t* x = idx + 3 * t;
@@ -241,8 +241,8 @@ bool segment_crosses_triangle(Vec3d p, Vec3d q, Vec3d a, Vec3d b, Vec3d c) {
 }
 
 size_t repair_folds(TriMesh& mesh, const std::vector<Vec3f>& extracted,
-                    const std::vector<SmoothRole>& role) {
-  const std::vector<uint32_t> tris = triangles_near_junctions(mesh, role);
+                    const std::vector<SmoothRole>& role, int reach) {
+  const std::vector<uint32_t> tris = triangles_near_junctions(mesh, role, reach);
   const uint32_t* idx = mesh.indices.data();
   std::vector<uint8_t> moved_back(mesh.positions.size(), 0), moved_now;
   size_t count = 0;

@@ -3,7 +3,7 @@
 // bone fragments, the plate and the background meet, with 4 mm slices), the vertices of every
 // crossing pair of triangles go back toward their extracted positions until nothing crosses.
 //
-// Only the triangles near the junctions are examined (every corner within kFoldReach edges of a
+// Only the triangles near the junctions are examined (every corner within `reach` edges of a
 // junction curve): away from them one interface is smoothed as a single mesh is. A round
 // finds every pair of those triangles (sharing no vertex) where an edge of one passes through
 // the interior of the other, halves the displacement of the pair's six vertices (from the
@@ -24,12 +24,12 @@
 namespace segmesh {
 
 inline constexpr int kFoldRounds = 6;
-inline constexpr int kFoldReach = 2;
 
 // mesh.positions are the smoothed positions, `extracted` the positions before smoothing, `role`
-// the vertices' smoothing roles. Returns how many vertices were moved back.
+// the vertices' smoothing roles, `reach` the rings around the junctions examined
+// (LabelledSurface::fold_reach). Returns how many vertices were moved back.
 size_t repair_folds(TriMesh& mesh, const std::vector<Vec3f>& extracted,
-                    const std::vector<SmoothRole>& role);
+                    const std::vector<SmoothRole>& role, int reach = 1);
 
 // Whether the segment [p, q] passes through the interior of triangle (a, b, c): through its
 // plane strictly between its ends, at a point strictly inside (margins of 1e-6 relative), so a
