@@ -7,9 +7,9 @@
 #include <array>
 #include <cstring>
 #include <numeric>
-#include <unordered_map>
 #include <vector>
 
+#include "segmesh/detail/dc_key_table.hpp"
 #include "segmesh/detail/dc_neighbourhood_keys.hpp"
 #include "segmesh/detail/dc_polygons.hpp"
 #include "segmesh/detail/dc_vertices.hpp"
@@ -25,6 +25,9 @@ namespace segmesh {
 namespace {
 
 constexpr int16_t kJunction = -2;
+
+// The edges a cell owns (emits the polygon of): 3, 7 and 11, through its corner (1, 1, 1).
+constexpr uint16_t kOwnedEdges = 1u << 3 | 1u << 7 | 1u << 11;
 
 // The material of every grid point of the parts' common box (with its one-point margin), in the
 // narrowest of 1, 2 or 4 bytes that holds the part count.
@@ -100,6 +103,11 @@ struct CutCell {
   uint8_t cut_lo = 0, cut_hi = 0;  // its cut edges (bits 0..7, 8..11)
   std::array<int8_t, 12> piece{};  // a junction cell: each cut edge's piece
   uint32_t winner = 0;             // a binary cell: the material inside
+  // The materials of the ends of the edges the cell owns (its edges 3, 7 and 11, the ones
+  // through its corner (1, 1, 1)): corner (1, 1, 1), then the other end of the x, y and z edge,
+  // (0, 1, 1), (1, 0, 1) and (1, 1, 0). From the corners the cell was classified by, so the
+  // polygons need no look-up in the material grid.
+  std::array<uint32_t, 4> owned_ends{};
   uint16_t cut() const { return uint16_t(cut_lo | cut_hi << 8); }
 };
 
@@ -240,6 +248,8 @@ class Extractor {
       rows_.cells(j, k, [&](int64_t i, const uint32_t* m) {
         CutCell cell;
         if (!classify(m, joined_by_winner_, table_, cell)) return;
+        // MaterialRows::cells numbers corner (x, y, z) as x + 2 y + 4 z.
+        cell.owned_ends = {m[7], m[6], m[5], m[3]};
         cell.i = int32_t(i);
         cell.first_vertex = slab.vertices;
         slab.vertices += cell.vertices;
@@ -247,14 +257,6 @@ class Extractor {
       });
     }
     slab.row_first[size_t(n_[1] - 1)] = uint32_t(slab.cells.size());
-  }
-
-  // The cut cell (i, j, k) (it exists: one of its edges is cut).
-  const CutCell& cell_at(int64_t i, int64_t j, int64_t k) const {
-    const Slab& s = slabs_[size_t(k)];
-    const auto begin = s.cells.begin() + s.row_first[size_t(j)];
-    const auto end = s.cells.begin() + s.row_first[size_t(j) + 1];
-    return *std::lower_bound(begin, end, i, [](const CutCell& c, int64_t x) { return c.i < x; });
   }
 
   // The 4 x 4 x 4 neighbourhood of cell (i, j, k) in material w's indicator, as single-label Dual
@@ -279,12 +281,11 @@ class Extractor {
     if (cell.cs != kJunction) {
       // The winner's sheets as single-label Dual Contouring places them.
       // Solved once per neighbourhood and thread (the key decides the case, hence the solve).
-      const uint64_t key = indicator_key(cell.winner, i, j, k);
+      const uint64_t key = indicator_key(cell.winner, i, j, k);  // never 0: the cell is cut
       auto& solved = solved_.local();
-      auto it = solved.find(key);
-      if (it == solved.end())
-        it = solved.emplace(key, dc::solve_key(solve_, key, cell.cs, nullptr)).first;
-      const dc::CellVertices& cv = it->second;
+      const dc::CellVertices& cv = solved[solved.get(key, [&](dc::CellVertices& v) {
+        v = dc::solve_key(solve_, key, cell.cs, nullptr);
+      })];
       for (int p = 0; p < cell.vertices; ++p)
         emit(cell.first_vertex + uint32_t(p), cv.offset[size_t(p)]);
       return;
@@ -313,35 +314,55 @@ class Extractor {
   void polygons(int64_t k, Visit&& visit) const {
     const Slab& s = slabs_[size_t(k)];
     const bool mirrored = grid_.mirrored();
+    // The cells of rows j and j + 1 of slabs k and k + 1, which hold every polygon's four cells;
+    // row n of these is row j + (n & 1) of slab k + (n >> 1). Each has a cursor at the first cell
+    // at or past the current cell's x: the cells a polygon needs are at x or x + 1, so every
+    // look-up is at the cursor or one further, and the cursors only move forward.
+    struct Cursor {
+      const CutCell* at = nullptr;
+      const CutCell* end = nullptr;
+    };
+    auto row_cells = [&](int64_t jj, int64_t kk) {
+      Cursor c;
+      if (kk >= int64_t(slabs_.size())) return c;
+      const Slab& slab = slabs_[size_t(kk)];
+      if (jj + 1 >= int64_t(slab.row_first.size())) return c;
+      c.at = slab.cells.data() + slab.row_first[size_t(jj)];
+      c.end = slab.cells.data() + slab.row_first[size_t(jj) + 1];
+      return c;
+    };
     for (size_t r = 0; r + 1 < s.row_first.size(); ++r) {
       const int64_t j = int64_t(r);
+      std::array<Cursor, 4> rows{row_cells(j, k), row_cells(j + 1, k), row_cells(j, k + 1),
+                                 row_cells(j + 1, k + 1)};
       for (uint32_t ci = s.row_first[r]; ci < s.row_first[r + 1]; ++ci) {
         const CutCell& cell = s.cells[ci];
+        if (!(cell.cut() & kOwnedEdges)) continue;
+        for (Cursor& c : rows)
+          while (c.at != c.end && c.at->i < cell.i) ++c.at;
         for (int axis = 0; axis < 3; ++axis) {
           const int e = 4 * axis + 3;
           if (!(cell.cut() >> e & 1)) continue;
           const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-          std::array<int64_t, 3> g{cell.i, j, k};
-          ++g[size_t(u)];
-          ++g[size_t(v)];
-          std::array<int64_t, 3> g1 = g;
-          ++g1[size_t(axis)];
-          const uint32_t m0 = materials_.at(g[0], g[1], g[2]);
-          const uint32_t m1 = materials_.at(g1[0], g1[1], g1[2]);
+          // The edge from cell corner (1, 1, 1) minus the axis to corner (1, 1, 1).
+          const uint32_t m0 = cell.owned_ends[size_t(1 + axis)];
+          const uint32_t m1 = cell.owned_ends[0];
           const uint32_t inside = winning_material(m0, m1);
           std::array<dc::CellRef, 4> refs;
           for (int q = 0; q < 4; ++q) {
-            std::array<int64_t, 3> c = g;
-            c[size_t(u)] += dc::kQuadrantDu[q];
-            c[size_t(v)] += dc::kQuadrantDv[q];
-            const CutCell& other = cell_at(c[0], c[1], c[2]);
-            if (other.cs == kJunction) {
+            // The quadrant's cell, offset from this one by 0 or 1 along u and v.
+            std::array<int, 3> offset{0, 0, 0};
+            offset[size_t(u)] = 1 + dc::kQuadrantDu[q];
+            offset[size_t(v)] = 1 + dc::kQuadrantDv[q];
+            const CutCell* other = rows[size_t(offset[1] + 2 * offset[2])].at;
+            while (other->i < cell.i + offset[0]) ++other;
+            if (other->cs == kJunction) {
               const int le = dc::local_edge(axis, -dc::kQuadrantDu[q], -dc::kQuadrantDv[q]);
               refs[size_t(q)] = {dc::kOneSheet,
-                                 other.first_vertex + uint32_t(other.piece[size_t(le)])};
+                                 other->first_vertex + uint32_t(other->piece[size_t(le)])};
             } else {
-              refs[size_t(q)] = {other.vertices == 1 ? dc::kOneSheet : int(other.cs),
-                                 other.first_vertex};
+              refs[size_t(q)] = {other->vertices == 1 ? dc::kOneSheet : int(other->cs),
+                                 other->first_vertex};
             }
           }
           visit(dc::polygon(table_, axis, refs, inside == m0, mirrored), inside,
@@ -388,7 +409,7 @@ class Extractor {
   Progress& progress_;
   const std::array<int64_t, 3> n_;
   std::vector<Slab> slabs_;
-  mutable tbb::enumerable_thread_specific<std::unordered_map<uint64_t, dc::CellVertices>> solved_;
+  mutable tbb::enumerable_thread_specific<dc::KeyTable<dc::CellVertices>> solved_;
 };
 
 }  // namespace
