@@ -172,7 +172,9 @@ Subcommand add_mesh_command(CLI::App& app) {
   auto a = std::make_shared<MeshArgs>();
   CLI::App* cmd = app.add_subcommand(
       "mesh", "Mesh every part (connected component of each label) of a label map");
-  cmd->add_option("input", a->input, "volume file (.nii, .nii.gz, .nrrd, .seg.nrrd, .mha, .mrc, ...) or DICOM folder")
+  cmd->add_option("input", a->input,
+                  "volume file (.nii, .nii.gz, .nrrd, .seg.nrrd, .mha, .mrc, ...), DICOM SEG file "
+                  "or DICOM folder")
       ->required();
   cmd->add_option("-o,--output", a->output,
                   "one file for all parts (scene.glb, .ply, .stl, .obj) or a folder ending in / "

@@ -117,8 +117,8 @@ int main(int argc, char** argv) {
   segmesh::viewer_app::AppOptions options;
   std::string size = "1280,800";
   cli.add_option("input", options.input,
-                 "a volume (NIfTI, NRRD, MetaImage, MRC or a DICOM folder; meshed with the panel's "
-                 "settings) or a mesh or scene (.glb, .ply, .stl, .obj)");
+                 "a volume (NIfTI, NRRD, MetaImage, MRC, a DICOM SEG file or a DICOM folder; "
+                 "meshed with the panel's settings) or a mesh or scene (.glb, .ply, .stl, .obj)");
   cli.add_option("--screenshot", options.screenshot,
                  "render the first complete frame (scene and UI) to this PNG and exit");
   cli.add_option("--size", size, "the window's width,height")->capture_default_str();

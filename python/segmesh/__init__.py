@@ -175,8 +175,8 @@ def mesh(labels, /, spacing=None, origin=None, direction=None, affine=None, *, l
 def mesh_file(path, /, *, label_names=None, color="material", measure=True, progress=None, threads=0,
               max_voxels=2_000_000_000, **options):
     """Meshes a volume file (every format `segmesh mesh` reads: .nii[.gz], .nrrd, .seg.nrrd,
-    .nhdr, .mha, .mhd, .mrc/.map/.rec, a DICOM folder) as `segmesh mesh` would. The reader's
-    warnings are in Result.warnings. Otherwise as mesh()."""
+    .nhdr, .mha, .mhd, .mrc/.map/.rec, a DICOM SEG file, a DICOM folder) as `segmesh mesh`
+    would. The reader's warnings are in Result.warnings. Otherwise as mesh()."""
     _check_progress(progress)
     return Result(_segmesh.mesh_file(_os.fspath(path), label_names, color, measure, progress,
                                      threads, max_voxels, options))
