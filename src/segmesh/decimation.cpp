@@ -1,6 +1,8 @@
 #include "segmesh/decimation.hpp"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <bit>
@@ -10,8 +12,8 @@
 #include <utility>
 
 #include "segmesh/detail/decimation_mesh.hpp"
+#include "segmesh/detail/decimation_order.hpp"
 #include "segmesh/detail/decimation_passes.hpp"
-#include "segmesh/detail/fold_repair.hpp"
 #include "segmesh/detail/quadric.hpp"
 #include "segmesh/mesh_distance.hpp"
 #include "segmesh/mesh_measures.hpp"
@@ -22,56 +24,6 @@
 namespace segmesh {
 
 namespace {
-
-struct Candidate {
-  double cost = 0;
-  uint32_t remove = 0, keep = 0;
-  Vec3d position;
-  uint32_t remove_version = 0, keep_version = 0;
-  // The heap's order: least cost first, ties by ids.
-  bool operator<(const Candidate& o) const {
-    if (cost != o.cost) return cost > o.cost;
-    if (remove != o.remove) return remove > o.remove;
-    return keep > o.keep;
-  }
-};
-
-// The candidates by cost, cheapest first, in buckets 1/16 of an octave wide (4.4 %): a bucket is
-// the top 16 bits of the cost's double (sign, exponent, 4 bits of mantissa), which order positive
-// doubles as the doubles do. Costs at or below 2^-40 mm share the first bucket, above 2^24 the
-// last. Within a bucket the last pushed comes first: the collapses near the last one, whose
-// vertices are still in cache. A binary heap of the ~4 M candidates a million-triangle surface
-// pushes spent more than half of the decimation in cache misses; pushing and popping here touch
-// the ends of short arrays. Deterministic: the order depends only on the pushes.
-class CostBuckets {
- public:
-  CostBuckets() : buckets_(bucket(std::numeric_limits<double>::infinity()) + 1) {}
-  bool empty() {
-    while (first_ < buckets_.size() && buckets_[first_].empty()) ++first_;
-    return first_ == buckets_.size();
-  }
-  void push(const Candidate& c) {
-    const size_t b = bucket(c.cost);
-    buckets_[b].push_back(c);
-    first_ = std::min(first_, b);
-  }
-  // The cheapest bucket's last candidate, removed; call only when !empty().
-  Candidate pop() {
-    Candidate c = buckets_[first_].back();
-    buckets_[first_].pop_back();
-    return c;
-  }
-
- private:
-  static size_t bucket(double cost) {
-    constexpr double lowest = 0x1p-40, highest = 0x1p24;
-    const uint64_t base = std::bit_cast<uint64_t>(lowest) >> 48;
-    if (!(cost > lowest)) return 0;
-    return size_t((std::bit_cast<uint64_t>(std::min(cost, highest)) >> 48) - base);
-  }
-  std::vector<std::vector<Candidate>> buckets_;
-  size_t first_ = 0;
-};
 
 // An edge flip may move the surface by this share of error_mm (or of the largest collapse cost,
 // when smaller): the height of the tetrahedron of the two diagonals.
@@ -85,6 +37,15 @@ constexpr int kImproveRounds = 4;
 constexpr double kWitnessShare = 0.80;
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// Parallel rounds (decimation.hpp): surfaces of fewer vertices go serial at once; a round takes
+// the cheaper half of the vertices' best collapses (by cost bucket); budgets stop the rounds
+// at this many times the budget, the cheapest-first loop going the rest; the rounds end when
+// one makes fewer collapses than a 1/kRoundsEndShare of the live vertices (or kRoundsEndCount).
+constexpr size_t kParallelMinVertices = 4096;
+constexpr double kRoundShare = 0.5;
+constexpr double kRoundsBudgetMargin = 1.5;
+constexpr int64_t kRoundsEndShare = 256, kRoundsEndCount = 64;
 constexpr double kSliver = 0.02;  // decimation.hpp says why not 0.05
 
 class Collapser {
@@ -105,8 +66,10 @@ class Collapser {
   }
 
   DecimationStats run() {
-    for (uint32_t v = 0; v < m_.pos.size(); ++v) push_edges(v, /*higher_only=*/true);
     DecimationStats stats;
+    parallel_rounds(stats);
+    for (uint32_t v = 0; v < m_.pos.size(); ++v)
+      if (m_.alive_vertex[v]) push_edges(v, /*higher_only=*/true);
     while (!queue_.empty()) {
       const Candidate c = queue_.pop();
       if (!m_.alive_vertex[c.remove] || !m_.alive_vertex[c.keep] ||
@@ -120,7 +83,7 @@ class Collapser {
       if (!m_.collapse_keeps_witnesses(c.remove, c.keep, c.position,
                                        within_error ? limit_mm_ * limit_mm_ : kInfinity))
         continue;
-      if (crosses_nearby(c)) continue;
+      if (m_.crosses_nearby(c.remove, c.keep, c.position)) continue;
       apply(c);
       ++stats.collapses;
       stats.largest_cost_mm = std::max(stats.largest_cost_mm, c.cost);
@@ -157,7 +120,7 @@ class Collapser {
         const std::optional<Candidate> c = candidate(i[k], i[(k + 1) % 3]);
         if (!c || c->cost > bound || !allowed(*c) ||
             !m_.collapse_keeps_witnesses(c->remove, c->keep, c->position, limit2) ||
-            crosses_nearby(*c))
+            m_.crosses_nearby(c->remove, c->keep, c->position))
           continue;
         apply(*c);
         ++made;
@@ -195,27 +158,6 @@ class Collapser {
     return best;
   }
 
-  static Vec3d best_on_segment(const Quadric& q, Vec3d a, Vec3d b) {
-    // Q(a + t (b - a)) = A t^2 + B t + C; the minimum on [0, 1] or an end.
-    const double q0 = evaluate(q, a), q1 = evaluate(q, b), qh = evaluate(q, 0.5 * (a + b));
-    const double A = 2 * (q0 + q1) - 4 * qh, B = q1 - q0 - A;
-    double t = q0 <= q1 ? 0 : 1;
-    if (A > 0) {
-      const double s = std::clamp(-B / (2 * A), 0.0, 1.0);
-      if (evaluate(q, a + s * (b - a)) < std::min(q0, q1)) t = s;
-    }
-    return a + t * (b - a);
-  }
-
-  static Vec3d best_free(const Quadric& q, Vec3d a, Vec3d b) {
-    const Vec3d mid = 0.5 * (a + b);
-    if (const auto x = optimum(q); x && norm(*x - mid) <= norm(b - a)) return *x;
-    Vec3d best = mid;
-    for (Vec3d p : {a, b})
-      if (evaluate(q, p) < evaluate(q, best)) best = p;
-    return best;
-  }
-
   void push_edges(uint32_t v, bool higher_only) {
     const ListPool::Lease around = m_.neighbours(v);
     for (uint32_t w : *around) {
@@ -241,7 +183,7 @@ class Collapser {
   bool allowed(const Candidate& c) const {
     const uint32_t u = c.remove, v = c.keep;
     // Triangle counts: no part below the minimum.
-    const ListPool::Lease removed_lease = m_.pool.take();
+    const ListPool::Lease removed_lease = m_.pool().take();
     std::vector<uint32_t>& removed = *removed_lease;
     m_.for_edge_triangles(u, v, [&](uint32_t t) { removed.push_back(t); });
     if (removed.empty()) return false;
@@ -264,24 +206,33 @@ class Collapser {
     auto link_holds = [&](uint32_t m) {
       const ListPool::Lease nu = m_.neighbours(u, m), nv = m_.neighbours(v, m);
       if (nu->empty() || nv->empty()) return true;  // not both in this shell
-      const ListPool::Lease common = m_.pool.take(), ap = m_.pool.take();
+      const ListPool::Lease common = m_.pool().take(), ap = m_.pool().take();
       std::set_intersection(nu->begin(), nu->end(), nv->begin(), nv->end(), std::back_inserter(*common));
       apexes(m, *ap);
       if (ap->empty()) return false;  // both in the shell, no edge of it between them
       return *common == *ap;
     };
     if (!link_holds(~0u)) return false;
-    const ListPool::Lease materials_lease = m_.pool.take();
+    const ListPool::Lease materials_lease = m_.pool().take();
     std::vector<uint32_t>& materials = *materials_lease;
+    size_t around = 0;  // triangles around u and v (those on the edge twice)
     for (uint32_t x : {u, v})
       for (uint32_t t : m_.tris[x])
-        if (m_.alive_tri[t])
-          for (uint32_t m : m_.s.sides[t])
-            if (m != 0) materials.push_back(m);
+        if (m_.alive_tri[t]) {
+          ++around;
+          const std::array<uint32_t, 2>& sides = m_.s.sides[t];
+          if (sides[0] != 0) materials.push_back(sides[0]);
+          if (sides[1] != 0 && sides[1] != sides[0]) materials.push_back(sides[1]);
+        }
     std::sort(materials.begin(), materials.end());
-    materials.erase(std::unique(materials.begin(), materials.end()), materials.end());
-    for (uint32_t m : materials)
-      if (!link_holds(m)) return false;
+    // A material on every triangle around u and v (both of a sheet's, an independent part's)
+    // has the whole surface's link, checked above.
+    for (size_t k = 0; k < materials.size();) {
+      size_t end = k;
+      while (end < materials.size() && materials[end] == materials[k]) ++end;
+      if (end - k != around && !link_holds(materials[k])) return false;
+      k = end;
+    }
     // A curve collapse must not close its curve into a loop of two edges.
     if (m_.role[u] == SmoothRole::kCurve) {
       const ListPool::Lease cu = m_.curve_neighbours(u), cv = m_.curve_neighbours(v);
@@ -310,65 +261,25 @@ class Collapser {
     return true;
   }
 
-  // Near where interfaces meet (the triangles within two rings of the edge are of more than one
-  // interface), whether a triangle around the merged vertex would cross one of those triangles:
-  // a sheet folded through another part's.
-  bool crosses_nearby(const Candidate& c) const {
-    const uint32_t u = c.remove, v = c.keep;
-    // Sheet vertices all around: every triangle within two rings is of their one interface.
-    const ListPool::Lease near_lease = m_.neighbours(u);
-    std::vector<uint32_t>& near = *near_lease;
-    {
-      const ListPool::Lease nv = m_.neighbours(v);
-      near.insert(near.end(), nv->begin(), nv->end());
-    }
-    if (std::all_of(near.begin(), near.end(), [&](uint32_t w) { return m_.role[w] == SmoothRole::kSheet; }))
-      return false;
-    const ListPool::Lease ring_lease = m_.pool.take();
-    std::vector<uint32_t>& ring = *ring_lease;
-    for (uint32_t w : near)
-      for (uint32_t t : m_.tris[w])
-        if (m_.alive_tri[t] && !(m_.has(t, u) && m_.has(t, v))) ring.push_back(t);
-    std::sort(ring.begin(), ring.end());
-    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
-    bool mixed = false;
-    for (uint32_t t : ring) mixed = mixed || !same_interface(m_.s.sides[t], m_.s.sides[ring[0]]);
-    if (!mixed) return false;
-    auto corner = [&](uint32_t i) { return i == u || i == v ? c.position : m_.pos[i]; };
-    auto id = [&](uint32_t i) { return i == u ? v : i; };
-    for (uint32_t f : ring) {
-      const uint32_t* fi = &m_.s.mesh.indices[3 * size_t(f)];
-      if (!m_.has(f, u) && !m_.has(f, v)) continue;  // not around the merged vertex
-      const uint32_t fa = id(fi[0]), fb = id(fi[1]), fc = id(fi[2]);
-      const Vec3d p[3] = {corner(fi[0]), corner(fi[1]), corner(fi[2])};
-      for (uint32_t r : ring) {
-        const uint32_t* ri = &m_.s.mesh.indices[3 * size_t(r)];
-        bool shares = false;
-        for (int k = 0; k < 3; ++k) {
-          const uint32_t x = id(ri[k]);
-          shares = shares || x == fa || x == fb || x == fc;
-        }
-        if (shares) continue;
-        const Vec3d q[3] = {corner(ri[0]), corner(ri[1]), corner(ri[2])};
-        for (int k = 0; k < 3; ++k) {
-          if (segment_crosses_triangle(p[k], p[(k + 1) % 3], q[0], q[1], q[2]) ||
-              segment_crosses_triangle(q[k], q[(k + 1) % 3], p[0], p[1], p[2]))
-            return true;
-        }
-      }
-    }
-    return false;
+  void apply(const Candidate& c) {
+    m_.for_edge_triangles(c.remove, c.keep, [&](uint32_t t) {
+      for (uint32_t m : m_.s.sides[t])
+        if (m != 0) --count_[m];
+    });
+    collapse(c);
+    push_edges(c.keep, false);
   }
 
-  void apply(const Candidate& c) {
+  // The collapse itself, checked: triangles, position, quadric, witnesses, the lists of the
+  // vertices around. Touches only u, v, their neighbours and the triangles around those
+  // (the parallel rounds rely on it); the caller counts the removed triangles.
+  void collapse(const Candidate& c) {
     const uint32_t u = c.remove, v = c.keep;
     for (uint32_t t : m_.tris[u]) {
       if (!m_.alive_tri[t]) continue;
       uint32_t* i = &m_.s.mesh.indices[3 * size_t(t)];
       if (m_.has(t, v)) {
         m_.alive_tri[t] = 0;
-        for (uint32_t m : m_.s.sides[t])
-          if (m != 0) --count_[m];
         continue;
       }
       for (int k = 0; k < 3; ++k)
@@ -389,7 +300,185 @@ class Collapser {
       for (uint32_t w : *around) m_.prune(w);
     }
     m_.prune(v);
-    push_edges(v, false);
+  }
+
+  bool admissible(const Candidate& c) const { return has_budget_ || c.cost <= limit_mm_; }
+
+  // Rounds of collapses in parallel before the cheapest-first loop (decimation.hpp). Every
+  // vertex keeps its best admissible collapse, made again only when a collapse changed its
+  // neighbourhood (or refused: until then). A round takes the cheaper half of them by cost
+  // bucket, in bucket order (ties by vertex id), each unless its region (the two vertices and
+  // their neighbours) meets one taken before, so no two taken collapses read or write the same
+  // vertex, triangle list or witness list; then checks and makes them on all threads. The
+  // triangle counts are reserved when a collapse is taken, so no part falls below its minimum
+  // (or, beyond the error bound, below kRoundsBudgetMargin times a budget) whatever is refused.
+  // Deterministic: the order is fixed before the parallel part.
+  void parallel_rounds(DecimationStats& stats) {
+    const size_t nv = m_.pos.size();
+    if (nv < kParallelMinVertices || !(limit_mm_ > 0 || has_budget_)) return;
+    enum : uint8_t { kDirty, kHas, kNone };
+    std::vector<Candidate> best(nv);
+    std::vector<uint8_t> state(nv, kDirty);
+    std::vector<uint32_t> refused(nv, ~0u);  // the neighbour of a refused best, skipped
+    std::vector<uint16_t> bucket(nv);  // best's cost bucket: the scans below stay in cache
+    auto keep_better = [&](uint32_t x, const std::optional<Candidate>& c) {
+      if (c && admissible(*c) && (state[x] != kHas || best[x] < *c)) {
+        best[x] = *c;
+        bucket[x] = uint16_t(CostBuckets::bucket(c->cost));
+        state[x] = kHas;
+      }
+    };
+    std::vector<uint32_t> mark(nv, 0), order, histogram(CostBuckets::bucket_count());
+    std::vector<Candidate> taken;
+    std::vector<uint32_t> owner, lost_start, lost;  // per taken: its owner, its edge's triangles
+    std::vector<char> made;
+    std::vector<int64_t> reserved(count_.size());
+    const ListPool::Lease region_lease = m_.pool().take();
+    std::vector<uint32_t>& region = *region_lease;
+    int64_t live = int64_t(nv);
+    for (uint32_t round = 1;; ++round) {
+      tbb::this_task_arena::isolate([&] {
+        tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(nv), 2048), [&](const auto& r) {
+          for (uint32_t x = r.begin(); x < r.end(); ++x) {
+            if (state[x] != kDirty) continue;
+            state[x] = kNone;
+            if (!m_.alive_vertex[x]) continue;
+            const ListPool::Lease around = m_.neighbours(x);
+            for (uint32_t w : *around)
+              if (w != refused[x]) keep_better(x, candidate(x, w));
+          }
+        });
+      });
+      // The cheaper kRoundShare of the candidates (whole buckets; at least the cheapest bucket),
+      // in vertex order: neighbours in memory, and cheaper than cost order by a fifth.
+      std::fill(histogram.begin(), histogram.end(), 0);
+      size_t total = 0;
+      for (uint32_t x = 0; x < nv; ++x)
+        if (state[x] == kHas) {
+          ++histogram[bucket[x]];
+          ++total;
+        }
+      if (total == 0) break;
+      size_t cut_bucket = 0;
+      for (size_t b = 0, sum = 0, found = 0; b < histogram.size(); ++b) {
+        if (histogram[b] == 0) continue;
+        sum += histogram[b];
+        if (found && sum > size_t(kRoundShare * double(total))) break;
+        cut_bucket = b;
+        found = 1;
+      }
+      order.clear();
+      for (uint32_t x = 0; x < nv; ++x)
+        if (state[x] == kHas && bucket[x] <= cut_bucket) order.push_back(x);
+      // Take them in order, each where no region taken before reaches.
+      taken.clear();
+      owner.clear();
+      lost.clear();
+      lost_start.assign(1, 0);
+      std::fill(reserved.begin(), reserved.end(), 0);
+      int64_t reserved_all = 0;
+      const int64_t shells = shell_triangles();
+      for (uint32_t x : order) {
+        const Candidate& c = best[x];
+        // Marked: the regions taken and their neighbours, so the regions meet iff u or v is.
+        if (mark[c.remove] == round || mark[c.keep] == round) continue;
+        const size_t first_lost = lost.size();
+        m_.for_edge_triangles(c.remove, c.keep, [&](uint32_t t) { lost.push_back(t); });
+        const bool within_error = limit_mm_ > 0 && c.cost <= limit_mm_;
+        bool fits = true;
+        int64_t lost_all = 0;
+        for (size_t k = first_lost; k < lost.size(); ++k)
+          for (uint32_t m : m_.s.sides[lost[k]])
+            if (m != 0) {
+              reserved[m] += 1;
+              lost_all += 1;
+            }
+        for (size_t k = first_lost; k < lost.size(); ++k)
+          for (uint32_t m : m_.s.sides[lost[k]]) {
+            const int64_t left = count_[m] - reserved[m];
+            if (m != 0 && (left < kMinPartTriangles ||
+                           (!within_error && budget_[m] > 0 &&
+                            double(left) < kRoundsBudgetMargin * double(budget_[m]))))
+              fits = false;
+          }
+        if (!within_error && surface_budget_ > 0 &&
+            double(shells - reserved_all - lost_all) < kRoundsBudgetMargin * double(surface_budget_))
+          fits = false;
+        if (!fits) {
+          for (size_t k = first_lost; k < lost.size(); ++k)
+            for (uint32_t m : m_.s.sides[lost[k]])
+              if (m != 0) reserved[m] -= 1;
+          lost.resize(first_lost);
+          continue;
+        }
+        reserved_all += lost_all;
+        region.clear();
+        for (uint32_t y : {c.remove, c.keep})
+          for (uint32_t t : m_.tris[y])
+            if (m_.alive_tri[t])
+              for (int k = 0; k < 3; ++k) region.push_back(m_.s.mesh.indices[3 * size_t(t) + size_t(k)]);
+        std::sort(region.begin(), region.end());
+        region.erase(std::unique(region.begin(), region.end()), region.end());
+        for (uint32_t w : region)
+          for (uint32_t t : m_.tris[w])
+            if (m_.alive_tri[t])
+              for (int k = 0; k < 3; ++k) mark[m_.s.mesh.indices[3 * size_t(t) + size_t(k)]] = round;
+        taken.push_back(c);
+        owner.push_back(x);
+        lost_start.push_back(uint32_t(lost.size()));
+      }
+      // Check and make them on all threads.
+      made.assign(taken.size(), 0);
+      tbb::this_task_arena::isolate([&] {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, taken.size(), 16), [&](const auto& r) {
+          for (size_t k = r.begin(); k < r.end(); ++k) {
+            const Candidate& c = taken[k];
+            const bool within_error = limit_mm_ > 0 && c.cost <= limit_mm_;
+            if (!allowed(c) ||
+                !m_.collapse_keeps_witnesses(c.remove, c.keep, c.position,
+                                             within_error ? limit_mm_ * limit_mm_ : kInfinity,
+                                             /*far_ring=*/false) ||
+                m_.crosses_nearby(c.remove, c.keep, c.position)) {
+              // Refused: the next best edge next round, then none until a collapse nearby.
+              const uint32_t x = owner[k];
+              const bool first = refused[x] == ~0u;
+              refused[x] = x == c.remove ? c.keep : c.remove;
+              state[x] = first ? kDirty : kNone;
+              continue;
+            }
+            collapse(c);
+            state[c.remove] = kNone;  // gone
+            state[c.keep] = kDirty;
+            refused[c.keep] = ~0u;
+            // A neighbour whose best collapse is not along (u, v)'s edges keeps it unless its
+            // edge to v is now better; the others are made again next round.
+            const ListPool::Lease around = m_.neighbours(c.keep);
+            for (uint32_t w : *around) {
+              const Candidate& b = best[w];
+              if (state[w] == kHas && b.remove != c.remove && b.keep != c.remove &&
+                  b.remove != c.keep && b.keep != c.keep)
+                keep_better(w, candidate(w, c.keep));
+              else
+                state[w] = kDirty;
+              refused[w] = ~0u;
+            }
+            made[k] = 1;
+          }
+        });
+      });
+      int64_t count = 0;
+      for (size_t k = 0; k < taken.size(); ++k) {
+        if (!made[k]) continue;
+        for (uint32_t i = lost_start[k]; i < lost_start[k + 1]; ++i)
+          for (uint32_t m : m_.s.sides[lost[i]])
+            if (m != 0) --count_[m];
+        ++count;
+        stats.largest_cost_mm = std::max(stats.largest_cost_mm, taken[k].cost);
+      }
+      stats.collapses += count;
+      live -= count;
+      if (count < std::max(kRoundsEndCount, live / kRoundsEndShare)) break;
+    }
   }
 
   DecimationMesh m_;

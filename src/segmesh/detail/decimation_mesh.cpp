@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "segmesh/detail/fold_repair.hpp"
 #include "segmesh/detail/surface_roles.hpp"
 #include "segmesh/mesh_distance.hpp"
 #include "segmesh/quality.hpp"
@@ -66,7 +67,7 @@ bool DecimationMesh::junction_edge(uint32_t a, uint32_t b) const {
 // The neighbours of v over its live triangles that hold material m (all when m is ~0u),
 // sorted and unique.
 ListPool::Lease DecimationMesh::neighbours(uint32_t v, uint32_t m) const {
-  ListPool::Lease lease = pool.take();
+  ListPool::Lease lease = pool().take();
   std::vector<uint32_t>& out = *lease;
   for (uint32_t t : tris[v]) {
     if (!alive_tri[t]) continue;
@@ -81,7 +82,7 @@ ListPool::Lease DecimationMesh::neighbours(uint32_t v, uint32_t m) const {
 }
 
 ListPool::Lease DecimationMesh::curve_neighbours(uint32_t v) const {
-  ListPool::Lease out = pool.take();
+  ListPool::Lease out = pool().take();
   const ListPool::Lease all = neighbours(v);
   for (uint32_t w : *all)
     if (junction_edge(v, w)) out->push_back(w);
@@ -102,8 +103,9 @@ double DecimationMesh::rho(uint32_t t) const {
 template <class FillFar>
 bool DecimationMesh::rewitness(std::span<const uint32_t> changed, double limit2,
                                FillFar&& fill_far) {
+  std::vector<std::pair<uint32_t, uint32_t>>& pending = scratch().pending;
   pending.clear();
-  pending_changed.assign(changed.begin(), changed.end());
+  scratch().pending_changed.assign(changed.begin(), changed.end());
   bool far = false;
   for (uint32_t t : changed)
     for (uint32_t o : witnessed[t]) {
@@ -121,8 +123,9 @@ bool DecimationMesh::rewitness(std::span<const uint32_t> changed, double limit2,
 }
 
 void DecimationMesh::commit_witnesses() {
-  for (uint32_t t : pending_changed) witnessed[t].clear();
-  for (const auto& [o, t] : pending) {
+  const DecimationScratch& sc = scratch();
+  for (uint32_t t : sc.pending_changed) witnessed[t].clear();
+  for (const auto& [o, t] : sc.pending) {
     witness[o] = t;
     witnessed[t].push_back(o);
   }
@@ -136,15 +139,15 @@ void DecimationMesh::add_fan(uint32_t y, Corner&& corner, bool collapse, uint32_
   for (uint32_t t : tris[y]) {
     if (!alive_tri[t] || t == skip1 || t == skip2 || (collapse && has(t, u) && has(t, v))) continue;
     const uint32_t* i = &s.mesh.indices[3 * size_t(t)];
-    fan.push_back({t, {corner(i[0]), corner(i[1]), corner(i[2])}});
+    add_to_fan(t, corner(i[0]), corner(i[1]), corner(i[2]));
   }
 }
 
 // The collapse of u into v at `position` (u == v: the move of v to `position`).
 bool DecimationMesh::collapse_keeps_witnesses(uint32_t u, uint32_t v, Vec3d position,
-                                              double limit2) {
+                                              double limit2, bool far_ring) {
   const bool collapse = u != v;
-  const ListPool::Lease changed = pool.take();
+  const ListPool::Lease changed = pool().take();
   // The vertices whose triangles change: v, and u too in a collapse (a move has u == v).
   const std::array<uint32_t, 2> around{v, u};
   const size_t count = collapse ? 2 : 1;
@@ -154,10 +157,11 @@ bool DecimationMesh::collapse_keeps_witnesses(uint32_t u, uint32_t v, Vec3d posi
   std::sort(changed->begin(), changed->end());
   changed->erase(std::unique(changed->begin(), changed->end()), changed->end());
   auto corner = [&](uint32_t i) { return i == u || i == v ? position : pos[i]; };
-  fan.clear();
+  scratch().fan.clear();
   add_fan(v, corner, collapse, u, v);
   if (collapse) add_fan(u, corner, collapse, u, v);
   return rewitness(*changed, limit2, [&] {
+    if (!far_ring) return;
     for (size_t k = 0; k < count; ++k) {
       const ListPool::Lease ring = neighbours(around[k]);
       for (uint32_t w : *ring)
@@ -171,35 +175,96 @@ bool DecimationMesh::flip_keeps_witnesses(uint32_t t1, uint32_t t2, const std::a
                           const std::array<uint32_t, 3>& new2,
                           const std::array<uint32_t, 4>& corners, double limit2) {
   auto corner = [&](uint32_t i) { return pos[i]; };
-  fan.clear();
-  fan.push_back({t1, {pos[new1[0]], pos[new1[1]], pos[new1[2]]}});
-  fan.push_back({t2, {pos[new2[0]], pos[new2[1]], pos[new2[2]]}});
+  scratch().fan.clear();
+  add_to_fan(t1, pos[new1[0]], pos[new1[1]], pos[new1[2]]);
+  add_to_fan(t2, pos[new2[0]], pos[new2[1]], pos[new2[2]]);
   const uint32_t changed[2] = {t1, t2};
   return rewitness(changed, limit2, [&] {
     for (uint32_t x : corners) add_fan(x, corner, false, 0, 0, t1, t2);
   });
 }
 
+void DecimationMesh::add_to_fan(uint32_t t, const Vec3d& a, const Vec3d& b, const Vec3d& c) {
+  scratch().fan.push_back({t,
+                 {a, b, c},
+                 {std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})},
+                 {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})}});
+}
+
 // The first triangle of fan within sqrt(limit2) of q, or ~0u. Most triangles of a fan are
-// decided without the exact test: a box farther than the limit rejects, a corner within it
-// accepts (the triangle's closest point is no farther than its corners).
+// decided without the exact test: a box (made once per fan) farther than the limit rejects, a
+// corner within it accepts (the triangle's closest point is no farther than its corners).
 uint32_t DecimationMesh::witness_in_fan(const Vec3d& q, double limit2) const {
   const double r = std::sqrt(limit2);
-  for (const auto& [t, p] : fan) {
-    const double lo_x = std::min({p[0].x, p[1].x, p[2].x}), hi_x = std::max({p[0].x, p[1].x, p[2].x});
-    const double lo_y = std::min({p[0].y, p[1].y, p[2].y}), hi_y = std::max({p[0].y, p[1].y, p[2].y});
-    const double lo_z = std::min({p[0].z, p[1].z, p[2].z}), hi_z = std::max({p[0].z, p[1].z, p[2].z});
-    if (q.x < lo_x - r || q.x > hi_x + r || q.y < lo_y - r || q.y > hi_y + r || q.z < lo_z - r ||
-        q.z > hi_z + r)
+  for (const FanTriangle& f : scratch().fan) {
+    if (q.x < f.lo.x - r || q.x > f.hi.x + r || q.y < f.lo.y - r || q.y > f.hi.y + r ||
+        q.z < f.lo.z - r || q.z > f.hi.z + r)
       continue;
+    const std::array<Vec3d, 3>& p = f.p;
     if (std::min({dot(p[0] - q, p[0] - q), dot(p[1] - q, p[1] - q), dot(p[2] - q, p[2] - q)}) <= limit2)
-      return t;
+      return f.t;
     const Vec3d d = closest_point_on_triangle(q, p[0], p[1], p[2]) - q;
-    if (dot(d, d) <= limit2) return t;
+    if (dot(d, d) <= limit2) return f.t;
   }
   return ~0u;
 }
 
+
+// Near where interfaces meet (the triangles within two rings of the edge are of more than one
+// interface), whether a triangle around the merged vertex would cross one of those triangles:
+// a sheet folded through another part's.
+bool DecimationMesh::crosses_nearby(uint32_t u, uint32_t v, const Vec3d& position) const {
+  // Sheet vertices all around: every triangle within two rings is of their one interface.
+  bool all_sheet = true;
+  for (uint32_t x : {u, v})
+    for (uint32_t t : tris[x])
+      if (alive_tri[t])
+        for (int k = 0; k < 3; ++k) {
+          const uint32_t w = s.mesh.indices[3 * size_t(t) + size_t(k)];
+          all_sheet = all_sheet && role[w] == SmoothRole::kSheet;
+        }
+  if (all_sheet) return false;
+  const ListPool::Lease near_lease = neighbours(u);
+  std::vector<uint32_t>& near = *near_lease;
+  {
+    const ListPool::Lease nv = neighbours(v);
+    near.insert(near.end(), nv->begin(), nv->end());
+  }
+  const ListPool::Lease ring_lease = pool().take();
+  std::vector<uint32_t>& ring = *ring_lease;
+  for (uint32_t w : near)
+    for (uint32_t t : tris[w])
+      if (alive_tri[t] && !(has(t, u) && has(t, v))) ring.push_back(t);
+  std::sort(ring.begin(), ring.end());
+  ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+  bool mixed = false;
+  for (uint32_t t : ring) mixed = mixed || !same_interface(s.sides[t], s.sides[ring[0]]);
+  if (!mixed) return false;
+  auto corner = [&](uint32_t i) { return i == u || i == v ? position : pos[i]; };
+  auto id = [&](uint32_t i) { return i == u ? v : i; };
+  for (uint32_t f : ring) {
+    const uint32_t* fi = &s.mesh.indices[3 * size_t(f)];
+    if (!has(f, u) && !has(f, v)) continue;  // not around the merged vertex
+    const uint32_t fa = id(fi[0]), fb = id(fi[1]), fc = id(fi[2]);
+    const Vec3d p[3] = {corner(fi[0]), corner(fi[1]), corner(fi[2])};
+    for (uint32_t r : ring) {
+      const uint32_t* ri = &s.mesh.indices[3 * size_t(r)];
+      bool shares = false;
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t x = id(ri[k]);
+        shares = shares || x == fa || x == fb || x == fc;
+      }
+      if (shares) continue;
+      const Vec3d q[3] = {corner(ri[0]), corner(ri[1]), corner(ri[2])};
+      for (int k = 0; k < 3; ++k) {
+        if (segment_crosses_triangle(p[k], p[(k + 1) % 3], q[0], q[1], q[2]) ||
+            segment_crosses_triangle(q[k], q[(k + 1) % 3], p[0], p[1], p[2]))
+          return true;
+      }
+    }
+  }
+  return false;
+}
 
 void DecimationMesh::prune(uint32_t v) {
   auto& list = tris[v];

@@ -9,7 +9,7 @@
 // `witnessed` lists them per triangle. A change (a collapse, a flip, a vertex moved) that alters
 // some triangles needs a new witness for every original vertex those witness: among the triangles
 // near the change as they will be, else among those one ring further. The checks below find
-// them and keep them in `pending`; commit_witnesses makes them the witnesses once the caller
+// them and keep them in this thread's scratch (`pending`); commit_witnesses makes them the witnesses once the caller
 // makes the change.
 #pragma once
 
@@ -68,6 +68,23 @@ class ListPool {
   std::vector<List*> free_;
 };
 
+// A triangle of a witness check as it will be, and its box.
+struct FanTriangle {
+  uint32_t t;
+  std::array<Vec3d, 3> p;
+  Vec3d lo, hi;
+};
+
+// What the checks build and throw away, one per thread (the parallel rounds of decimation.cpp
+// check collapses on every core): id lists, a check's candidate witnesses (`fan`), and its new
+// witnesses (original vertex, triangle) and changed triangles for commit_witnesses.
+struct DecimationScratch {
+  ListPool pool;
+  std::vector<FanTriangle> fan;
+  std::vector<std::pair<uint32_t, uint32_t>> pending;
+  std::vector<uint32_t> pending_changed;
+};
+
 struct DecimationMesh {
   // Positions, roles (surface_roles with either winding), quadrics (every triangle's plane,
   // weight 1/3, on its corners), triangle lists and witnesses of `surface`, kept until compact.
@@ -80,15 +97,16 @@ struct DecimationMesh {
   std::vector<Quadric> quadric;
   std::vector<std::vector<uint32_t>> tris;  // per vertex; may hold dead triangles until pruned
   std::vector<char> alive_tri, alive_vertex;
-  // The original vertices: positions, witnesses, and per triangle those it witnesses; the last
-  // check's new witnesses (original vertex, triangle) and the triangles it changed.
+  // The original vertices: positions, witnesses, and per triangle those it witnesses.
   std::vector<Vec3f> original;
   std::vector<uint32_t> witness;
   std::vector<std::vector<uint32_t>> witnessed;
-  std::vector<std::pair<uint32_t, uint32_t>> pending;
-  std::vector<uint32_t> pending_changed;
-  std::vector<std::pair<uint32_t, std::array<Vec3d, 3>>> fan;  // scratch: candidate witnesses
-  mutable ListPool pool;
+  // This thread's scratch.
+  static DecimationScratch& scratch() {
+    thread_local DecimationScratch here;
+    return here;
+  }
+  static ListPool& pool() { return scratch().pool; }
 
   bool has(uint32_t t, uint32_t v) const {
     const uint32_t* i = &s.mesh.indices[3 * size_t(t)];
@@ -110,13 +128,22 @@ struct DecimationMesh {
 
   // Witness checks, each leaving the new witnesses in `pending`. limit2: the squared bound
   // (infinity: any triangle will do, to keep every witness alive).
-  // The collapse of u into v at `position` (u == v: the move of v to `position`).
-  bool collapse_keeps_witnesses(uint32_t u, uint32_t v, Vec3d position, double limit2);
+  // The collapse of u into v at `position` (u == v: the move of v to `position`). Without
+  // `far_ring`, only the triangles around the merged vertex may witness, so the check and
+  // commit_witnesses touch no triangle with a corner beyond the two vertices' neighbours.
+  bool collapse_keeps_witnesses(uint32_t u, uint32_t v, Vec3d position, double limit2,
+                                bool far_ring = true);
   // The flip of t1 and t2 into `new1` and `new2` over the quad's `corners`.
   bool flip_keeps_witnesses(uint32_t t1, uint32_t t2, const std::array<uint32_t, 3>& new1,
                             const std::array<uint32_t, 3>& new2,
                             const std::array<uint32_t, 4>& corners, double limit2);
   void commit_witnesses();
+
+  // Near where interfaces meet (the triangles within two rings of edge (u, v) are of more than
+  // one interface), whether a triangle around the merged vertex at `position` would cross one
+  // of those triangles: a sheet folded through another part's. Reads only the triangles around
+  // u's and v's neighbours.
+  bool crosses_nearby(uint32_t u, uint32_t v, const Vec3d& position) const;
 
   void prune(uint32_t v);  // dead triangles out of v's list
   // Writes the live triangles back into `s` (vertices renumbered, junction_vertices kept,
@@ -129,6 +156,7 @@ struct DecimationMesh {
   template <class Corner>
   void add_fan(uint32_t y, Corner&& corner, bool collapse, uint32_t u, uint32_t v,
                uint32_t skip1 = ~0u, uint32_t skip2 = ~0u);
+  void add_to_fan(uint32_t t, const Vec3d& a, const Vec3d& b, const Vec3d& c);
   uint32_t witness_in_fan(const Vec3d& q, double limit2) const;
 };
 
