@@ -4,6 +4,7 @@
 // meshes, not the decimator's quadric estimate), contacts still shared, no part crossing another,
 // and bad option values refused.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cmath>
@@ -260,19 +261,36 @@ TEST(Decimation, TheReportMeasuresTheDecimatedPartsAgainstTheUndecimatedOnes) {
   }
 }
 
+void expect_same_meshes(const Scene& a, const Scene& b) {
+  ASSERT_EQ(a.parts.size(), b.parts.size());
+  for (size_t p = 0; p < a.parts.size(); ++p) {
+    EXPECT_EQ(a.parts[p].mesh.indices, b.parts[p].mesh.indices);
+    ASSERT_EQ(a.parts[p].mesh.positions.size(), b.parts[p].mesh.positions.size());
+    EXPECT_TRUE(std::equal(a.parts[p].mesh.positions.begin(), a.parts[p].mesh.positions.end(),
+                           b.parts[p].mesh.positions.begin(), [](Vec3f x, Vec3f y) {
+                             return x.x == y.x && x.y == y.y && x.z == y.z;
+                           }));
+  }
+}
+
 TEST(Decimation, IsDeterministic) {
   const Image image = small_phantom();
   MeshingOptions o;
   o.decimate.max_triangles = 20000;
   const Scene a = build_scene(image, o), b = build_scene(image, o);
   EXPECT_LE(total_triangles(a), 20000);
-  for (size_t p = 0; p < a.parts.size(); ++p) {
-    EXPECT_EQ(a.parts[p].mesh.indices, b.parts[p].mesh.indices);
-    EXPECT_TRUE(std::equal(a.parts[p].mesh.positions.begin(), a.parts[p].mesh.positions.end(),
-                           b.parts[p].mesh.positions.begin(), [](Vec3f x, Vec3f y) {
-                             return x.x == y.x && x.y == y.y && x.z == y.z;
-                           }));
-  }
+  expect_same_meshes(a, b);
+}
+
+// The parallel rounds take their collapses before the parallel part: one thread or several
+// give the same surface.
+TEST(Decimation, DoesNotDependOnTheThreadCount) {
+  const Image image = small_phantom();
+  MeshingOptions o;
+  o.decimate.error_mm = 0.2;
+  const Scene several = build_scene(image, o);
+  const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  expect_same_meshes(several, build_scene(image, o));
 }
 
 TEST(Decimation, BadValuesAreRefusedNamingTheOption) {
