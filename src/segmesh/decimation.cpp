@@ -335,11 +335,13 @@ class Collapser {
     std::vector<int64_t> reserved(count_.size());
     const ListPool::Lease region_lease = m_.pool().take();
     std::vector<uint32_t>& region = *region_lease;
-    int64_t live = int64_t(nv);
+    std::vector<uint32_t> live_ids(nv);  // the live vertices, ascending: the scans' range
+    std::iota(live_ids.begin(), live_ids.end(), 0u);
     for (uint32_t round = 1;; ++round) {
       tbb::this_task_arena::isolate([&] {
-        tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(nv), 2048), [&](const auto& r) {
-          for (uint32_t x = r.begin(); x < r.end(); ++x) {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, live_ids.size(), 2048), [&](const auto& r) {
+          for (size_t i = r.begin(); i < r.end(); ++i) {
+            const uint32_t x = live_ids[i];
             if (state[x] != kDirty) continue;
             state[x] = kNone;
             if (!m_.alive_vertex[x]) continue;
@@ -353,7 +355,7 @@ class Collapser {
       // in vertex order: neighbours in memory, and cheaper than cost order by a fifth.
       std::fill(histogram.begin(), histogram.end(), 0);
       size_t total = 0;
-      for (uint32_t x = 0; x < nv; ++x)
+      for (uint32_t x : live_ids)
         if (state[x] == kHas) {
           ++histogram[bucket[x]];
           ++total;
@@ -368,7 +370,7 @@ class Collapser {
         found = 1;
       }
       order.clear();
-      for (uint32_t x = 0; x < nv; ++x)
+      for (uint32_t x : live_ids)
         if (state[x] == kHas && bucket[x] <= cut_bucket) order.push_back(x);
       // Take them in order, each where no region taken before reaches.
       taken.clear();
@@ -476,8 +478,8 @@ class Collapser {
         stats.largest_cost_mm = std::max(stats.largest_cost_mm, taken[k].cost);
       }
       stats.collapses += count;
-      live -= count;
-      if (count < std::max(kRoundsEndCount, live / kRoundsEndShare)) break;
+      std::erase_if(live_ids, [&](uint32_t x) { return !m_.alive_vertex[x]; });
+      if (count < std::max(kRoundsEndCount, int64_t(live_ids.size()) / kRoundsEndShare)) break;
     }
   }
 
