@@ -192,6 +192,26 @@ class Collapser {
       for (uint32_t t : removed) lost += (m_.s.sides[t][0] == m) + (m_.s.sides[t][1] == m);
       if (lost > 0 && count_[m] - lost < kMinPartTriangles) return false;
     }
+    // Geometry: no turned, degenerate or new sliver triangle. Before the link checks: most
+    // refusals are new slivers (421 000 of 454 000 on the phantom at 0.2 mm), and these are cheap.
+    double worst_before = 1, worst_after = 1;
+    for (uint32_t t : removed) worst_before = std::min(worst_before, m_.rho(t));
+    for (uint32_t x : {u, v}) {
+      for (uint32_t t : m_.tris[x]) {
+        if (!m_.alive_tri[t] || (m_.has(t, u) && m_.has(t, v))) continue;
+        const uint32_t* i = &m_.s.mesh.indices[3 * size_t(t)];
+        Vec3d p[3];
+        for (int k = 0; k < 3; ++k) p[k] = i[k] == u || i[k] == v ? c.position : m_.pos[i[k]];
+        const Vec3d n0 = cross(m_.pos[i[1]] - m_.pos[i[0]], m_.pos[i[2]] - m_.pos[i[0]]);
+        const Vec3d n1 = cross(p[1] - p[0], p[2] - p[0]);
+        const double l0 = norm(n0), l1 = norm(n1);
+        if (!(l1 > 1e-12 * (l0 + 1e-30))) return false;
+        if (dot(n0, n1) < kDecimationMaxTurnCos * l0 * l1) return false;
+        worst_before = std::min(worst_before, m_.rho(t));
+        worst_after = std::min(worst_after, radii_ratio(p[0], p[1], p[2]));
+      }
+    }
+    if (worst_after < kSliver && worst_after < worst_before) return false;
     // Link conditions: on the whole surface and in every part's shell.
     auto apexes = [&](uint32_t m, std::vector<uint32_t>& out) {
       for (uint32_t t : removed) {
@@ -239,25 +259,6 @@ class Collapser {
       for (uint32_t w : *cu)
         if (w != v && std::find(cv->begin(), cv->end(), w) != cv->end()) return false;
     }
-    // Geometry: no turned, degenerate or new sliver triangle.
-    double worst_before = 1, worst_after = 1;
-    for (uint32_t t : removed) worst_before = std::min(worst_before, m_.rho(t));
-    for (uint32_t x : {u, v}) {
-      for (uint32_t t : m_.tris[x]) {
-        if (!m_.alive_tri[t] || (m_.has(t, u) && m_.has(t, v))) continue;
-        const uint32_t* i = &m_.s.mesh.indices[3 * size_t(t)];
-        Vec3d p[3];
-        for (int k = 0; k < 3; ++k) p[k] = i[k] == u || i[k] == v ? c.position : m_.pos[i[k]];
-        const Vec3d n0 = cross(m_.pos[i[1]] - m_.pos[i[0]], m_.pos[i[2]] - m_.pos[i[0]]);
-        const Vec3d n1 = cross(p[1] - p[0], p[2] - p[0]);
-        const double l0 = norm(n0), l1 = norm(n1);
-        if (!(l1 > 1e-12 * (l0 + 1e-30))) return false;
-        if (dot(n0, n1) < kDecimationMaxTurnCos * l0 * l1) return false;
-        worst_before = std::min(worst_before, m_.rho(t));
-        worst_after = std::min(worst_after, radii_ratio(p[0], p[1], p[2]));
-      }
-    }
-    if (worst_after < kSliver && worst_after < worst_before) return false;
     return true;
   }
 
