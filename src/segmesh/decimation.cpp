@@ -316,7 +316,8 @@ class Collapser {
   // Deterministic: the order is fixed before the parallel part.
   void parallel_rounds(DecimationStats& stats) {
     const size_t nv = m_.pos.size();
-    if (nv < kParallelMinVertices || !(limit_mm_ > 0 || has_budget_)) return;
+    if (!options_.parallel_rounds || nv < kParallelMinVertices || !(limit_mm_ > 0 || has_budget_))
+      return;
     enum : uint8_t { kDirty, kHas, kNone };
     std::vector<Candidate> best(nv);
     std::vector<uint8_t> state(nv, kDirty);

@@ -282,13 +282,21 @@ TEST(Decimation, IsDeterministic) {
   expect_same_meshes(a, b);
 }
 
-// The parallel rounds take their collapses before the parallel part: one thread or several
-// give the same surface.
-TEST(Decimation, DoesNotDependOnTheThreadCount) {
+// The parallel rounds (off by default) keep the parts sound and the bound, and take their
+// collapses before the parallel part: one thread or several give the same surface.
+TEST(Decimation, ParallelRoundsKeepTheBoundAndDoNotDependOnTheThreadCount) {
   const Image image = small_phantom();
   MeshingOptions o;
+  const Scene before = build_scene(image, o);
   o.decimate.error_mm = 0.2;
+  o.decimate.parallel_rounds = true;
   const Scene several = build_scene(image, o);
+  expect_sound_parts(several);
+  ASSERT_EQ(several.parts.size(), before.parts.size());
+  for (size_t p = 0; p < several.parts.size(); ++p)
+    EXPECT_LE(sampled_hausdorff(before.parts[p].mesh, several.parts[p].mesh), 0.2 + kFloatTolerance)
+        << several.parts[p].name;
+  EXPECT_GE(total_triangles(before), 5 * total_triangles(several));
   const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
   expect_same_meshes(several, build_scene(image, o));
 }
