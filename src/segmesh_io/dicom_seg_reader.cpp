@@ -60,8 +60,7 @@ std::optional<uint16_t> one_short(const gdcm::DataSet& ds, uint16_t group, uint1
 }
 
 // The items of a sequence (empty when absent).
-std::vector<const gdcm::DataSet*> items(const gdcm::DataSet& ds, uint16_t group,
-                                        uint16_t element) {
+std::vector<const gdcm::DataSet*> items(const gdcm::DataSet& ds, uint16_t group, uint16_t element) {
   const gdcm::Tag tag(group, element);
   std::vector<const gdcm::DataSet*> out;
   if (!ds.FindDataElement(tag)) return out;
@@ -91,7 +90,9 @@ Rgb lab_to_srgb(const std::vector<uint16_t>& lab) {
   const double a = lab[1] * 255.0 / 65535.0 - 128.0;
   const double b = lab[2] * 255.0 / 65535.0 - 128.0;
   const double fy = (l + 16) / 116, fx = fy + a / 500, fz = fy - b / 200;
-  auto inverse = [](double f) { return f > 6.0 / 29 ? f * f * f : 3 * (6.0 / 29) * (6.0 / 29) * (f - 4.0 / 29); };
+  auto inverse = [](double f) {
+    return f > 6.0 / 29 ? f * f * f : 3 * (6.0 / 29) * (6.0 / 29) * (f - 4.0 / 29);
+  };
   const double x = 0.95047 * inverse(fx), y = inverse(fy), z = 1.08883 * inverse(fz);
   const double linear[3] = {3.2406 * x - 1.5372 * y - 0.4986 * z,
                             -0.9689 * x + 1.8758 * y + 0.0415 * z,
@@ -132,8 +133,9 @@ Image read_dicom_seg(const fs::path& file, const ReadOptions& options) {
   if (!reader.Read()) throw file_error(file, "GDCM cannot read this DICOM file");
   const gdcm::DataSet& ds = reader.GetFile().GetDataSet();
   if (text(ds, 0x0008, 0x0016) != kSegmentationStorage) {
-    throw file_error(file, "is a single DICOM file; give the folder that holds the whole series "
-                           "(a single file is read only as a DICOM SEG object)");
+    throw file_error(file,
+                     "is a single DICOM file; give the folder that holds the whole series "
+                     "(a single file is read only as a DICOM SEG object)");
   }
   const gdcm::TransferSyntax& syntax = reader.GetFile().GetHeader().GetDataSetTransferSyntax();
   if (syntax.IsEncapsulated()) {
@@ -143,8 +145,9 @@ Image read_dicom_seg(const fs::path& file, const ReadOptions& options) {
                                "or dcmdjpeg / dcmdrle)");
   }
   if (syntax.GetSwapCode() == gdcm::SwapCode::BigEndian) {
-    throw file_error(file, "big-endian DICOM is not supported; convert it to little endian "
-                           "(gdcmconv --raw)");
+    throw file_error(file,
+                     "big-endian DICOM is not supported; convert it to little endian "
+                     "(gdcmconv --raw)");
   }
 
   // The image pixel module.
@@ -153,9 +156,12 @@ Image read_dicom_seg(const fs::path& file, const ReadOptions& options) {
   const auto samples = one_short(ds, 0x0028, 0x0002);
   const auto frame_text = text(ds, 0x0028, 0x0008);
   if (!rows || !columns || !bits || *rows == 0 || *columns == 0) {
-    throw file_error(file, "Rows, Columns or Bits Allocated is missing or zero; the DICOM SEG is corrupt");
+    throw file_error(
+        file, "Rows, Columns or Bits Allocated is missing or zero; the DICOM SEG is corrupt");
   }
-  if (samples && *samples != 1) throw file_error(file, "a DICOM SEG has one sample per pixel; this one has " + std::to_string(*samples));
+  if (samples && *samples != 1)
+    throw file_error(
+        file, "a DICOM SEG has one sample per pixel; this one has " + std::to_string(*samples));
   const std::string type = text(ds, 0x0062, 0x0001).value_or("BINARY");
   const bool fractional = type == "FRACTIONAL";
   if (type != "BINARY" && !fractional) {
@@ -176,7 +182,8 @@ Image read_dicom_seg(const fs::path& file, const ReadOptions& options) {
   std::vector<LabelInfo> labels;
   for (const gdcm::DataSet* segment : items(ds, 0x0062, 0x0002)) {
     const auto number = one_short(*segment, 0x0062, 0x0004);
-    if (!number || *number == 0) throw file_error(file, "a segment has no Segment Number (or 0); the DICOM SEG is corrupt");
+    if (!number || *number == 0)
+      throw file_error(file, "a segment has no Segment Number (or 0); the DICOM SEG is corrupt");
     LabelInfo info;
     info.label = *number;
     info.name = text(*segment, 0x0062, 0x0005).value_or("");
@@ -184,19 +191,24 @@ Image read_dicom_seg(const fs::path& file, const ReadOptions& options) {
     if (lab.size() == 3) info.color = lab_to_srgb(lab);
     labels.push_back(std::move(info));
   }
-  if (labels.empty()) throw file_error(file, "the Segment Sequence is empty; the DICOM SEG holds no segments");
-  std::sort(labels.begin(), labels.end(), [](const LabelInfo& a, const LabelInfo& b) { return a.label < b.label; });
+  if (labels.empty())
+    throw file_error(file, "the Segment Sequence is empty; the DICOM SEG holds no segments");
+  std::sort(labels.begin(), labels.end(),
+            [](const LabelInfo& a, const LabelInfo& b) { return a.label < b.label; });
   for (size_t i = 1; i < labels.size(); ++i)
     if (labels[i].label == labels[i - 1].label)
-      throw file_error(file, "segment number " + std::to_string(labels[i].label) + " appears twice in the Segment Sequence");
+      throw file_error(file, "segment number " + std::to_string(labels[i].label) +
+                                 " appears twice in the Segment Sequence");
 
   // Frames: segment, position; orientation and pixel spacing the same for all.
   const auto shared_items = items(ds, 0x5200, 0x9229);
   const gdcm::DataSet* shared = shared_items.empty() ? nullptr : shared_items.front();
   const auto per_frame = items(ds, 0x5200, 0x9230);
   if (per_frame.size() != size_t(frame_count)) {
-    throw file_error(file, "Number of Frames is " + std::to_string(frame_count) + " but the Per-frame Functional Groups Sequence has " +
-                               std::to_string(per_frame.size()) + " items; the DICOM SEG is corrupt");
+    throw file_error(file, "Number of Frames is " + std::to_string(frame_count) +
+                               " but the Per-frame Functional Groups Sequence has " +
+                               std::to_string(per_frame.size()) +
+                               " items; the DICOM SEG is corrupt");
   }
   std::optional<std::array<double, 6>> orientation;
   std::optional<std::array<double, 2>> pixel_spacing;
@@ -206,9 +218,9 @@ Image read_dicom_seg(const fs::path& file, const ReadOptions& options) {
     const std::string which = "frame " + std::to_string(f + 1);
     const gdcm::DataSet* id = functional_group(per_frame[f], shared, 0x0062, 0x000a);
     const auto segment = id ? one_short(*id, 0x0062, 0x000b) : std::nullopt;
-    if (!segment || !std::binary_search(labels.begin(), labels.end(), LabelInfo{int32_t(*segment), {}, {}, {}},
-                                        [](const LabelInfo& a, const LabelInfo& b) { return a.label < b.label; })) {
-      throw file_error(file, which + " names no segment of the Segment Sequence; the DICOM SEG is corrupt");
+    if (!segment || !find_label_info(labels, int32_t(*segment))) {
+      throw file_error(
+          file, which + " names no segment of the Segment Sequence; the DICOM SEG is corrupt");
     }
     frames[f].segment = *segment;
     const gdcm::DataSet* plane = functional_group(per_frame[f], shared, 0x0020, 0x9113);
@@ -216,21 +228,28 @@ Image read_dicom_seg(const fs::path& file, const ReadOptions& options) {
     const gdcm::DataSet* turn = functional_group(per_frame[f], shared, 0x0020, 0x9116);
     const auto o = turn ? dicom_numbers<6>(text(*turn, 0x0020, 0x0037)) : std::nullopt;
     const gdcm::DataSet* measures = functional_group(per_frame[f], shared, 0x0028, 0x9110);
-    const auto spacing = measures ? dicom_numbers<2>(text(*measures, 0x0028, 0x0030)) : std::nullopt;
+    const auto spacing =
+        measures ? dicom_numbers<2>(text(*measures, 0x0028, 0x0030)) : std::nullopt;
     if (!position || !o || !spacing) {
       throw file_error(file, which + " has no " +
-                                 std::string(!position ? "Image Position (Patient)" : !o ? "Image Orientation (Patient)" : "Pixel Spacing") +
+                                 std::string(!position ? "Image Position (Patient)"
+                                             : !o      ? "Image Orientation (Patient)"
+                                                       : "Pixel Spacing") +
                                  "; segmesh needs each frame's place in space");
     }
     if (!orientation) {
       orientation = o;
       pixel_spacing = spacing;
-      if (const auto between = dicom_numbers<1>(text(*measures, 0x0018, 0x0088))) slice_spacing = (*between)[0];
+      if (const auto between = dicom_numbers<1>(text(*measures, 0x0018, 0x0088)))
+        slice_spacing = (*between)[0];
       if (const auto t = dicom_numbers<1>(text(*measures, 0x0018, 0x0050))) thickness = (*t)[0];
     } else {
       for (int k = 0; k < 6; ++k)
         if (std::abs((*o)[k] - (*orientation)[k]) > 1e-4)
-          throw file_error(file, which + " has another orientation than frame 1; frames of one DICOM SEG must share one");
+          throw file_error(
+              file,
+              which +
+                  " has another orientation than frame 1; frames of one DICOM SEG must share one");
       for (int k = 0; k < 2; ++k)
         if (std::abs((*spacing)[k] - (*pixel_spacing)[k]) > 1e-4 * (*pixel_spacing)[k])
           throw file_error(file, which + " has another pixel spacing than frame 1");
@@ -241,15 +260,20 @@ Image read_dicom_seg(const fs::path& file, const ReadOptions& options) {
   // The grid: along the normal from the lowest frame; in the plane every frame must start at the
   // same place.
   const Vec3d normal = normal_of(*orientation);
-  auto along = [&](const Frame& fr) { return dot(Vec3d{fr.position[0], fr.position[1], fr.position[2]}, normal); };
-  const Frame& lowest = *std::min_element(frames.begin(), frames.end(), [&](const Frame& a, const Frame& b) { return along(a) < along(b); });
+  auto along = [&](const Frame& fr) {
+    return dot(Vec3d{fr.position[0], fr.position[1], fr.position[2]}, normal);
+  };
+  const Frame& lowest =
+      *std::min_element(frames.begin(), frames.end(),
+                        [&](const Frame& a, const Frame& b) { return along(a) < along(b); });
   const double low = along(lowest);
   std::vector<double> levels;
   for (const Frame& fr : frames) levels.push_back(along(fr) - low);
   std::sort(levels.begin(), levels.end());
   double gap = 0;
   for (size_t i = 1; i < levels.size(); ++i)
-    if (levels[i] - levels[i - 1] > 1e-4 && (gap == 0 || levels[i] - levels[i - 1] < gap)) gap = levels[i] - levels[i - 1];
+    if (levels[i] - levels[i - 1] > 1e-4 && (gap == 0 || levels[i] - levels[i - 1] < gap))
+      gap = levels[i] - levels[i - 1];
   double spacing_z = slice_spacing && *slice_spacing > 0 ? *slice_spacing : gap;
   if (!(spacing_z > 0)) {  // one slice: its thickness, else the pixel spacing
     spacing_z = thickness && *thickness > 0 ? *thickness : (*pixel_spacing)[0];
@@ -261,9 +285,12 @@ Image read_dicom_seg(const fs::path& file, const ReadOptions& options) {
     const double k = (dot(p, normal) - low) / spacing_z;
     fr.slice = std::llround(k);
     const Vec3d sideways = (p - origin) - dot(p - origin, normal) * normal;
-    if (std::abs(k - double(fr.slice)) > 0.01 || norm(sideways) > 0.01 * std::min((*pixel_spacing)[0], (*pixel_spacing)[1])) {
-      throw file_error(file, "its frames do not lie on one grid (a frame " + std::string(norm(sideways) > 0 ? "beside the others" : "between slices") +
-                                 "); segmesh reads DICOM SEG objects whose frames are slices of one volume");
+    const bool beside = norm(sideways) > 0.01 * std::min((*pixel_spacing)[0], (*pixel_spacing)[1]);
+    if (beside || std::abs(k - double(fr.slice)) > 0.01) {
+      throw file_error(file, std::string("its frames do not lie on one grid (a frame ") +
+                                 (beside ? "beside the others" : "between slices") +
+                                 "); segmesh reads DICOM SEG objects whose frames are slices of "
+                                 "one volume");
     }
     slices = std::max(slices, fr.slice + 1);
   }
@@ -277,10 +304,12 @@ Image read_dicom_seg(const fs::path& file, const ReadOptions& options) {
 
   // Pixels.
   const gdcm::Tag pixel_tag(0x7fe0, 0x0010);
-  const gdcm::ByteValue* pixels = ds.FindDataElement(pixel_tag) ? ds.GetDataElement(pixel_tag).GetByteValue() : nullptr;
+  const gdcm::ByteValue* pixels =
+      ds.FindDataElement(pixel_tag) ? ds.GetDataElement(pixel_tag).GetByteValue() : nullptr;
   if (!pixels) throw file_error(file, "has no pixel data");
   const uint64_t per_frame_pixels = uint64_t(*rows) * *columns;
-  const uint64_t needed = *bits == 1 ? (per_frame_pixels * frames.size() + 7) / 8 : per_frame_pixels * frames.size();
+  const uint64_t needed =
+      *bits == 1 ? (per_frame_pixels * frames.size() + 7) / 8 : per_frame_pixels * frames.size();
   if (pixels->GetLength() < needed) throw truncated_error(file, needed, pixels->GetLength());
   const auto* data = reinterpret_cast<const unsigned char*>(pixels->GetPointer());
 
@@ -298,11 +327,13 @@ Image read_dicom_seg(const fs::path& file, const ReadOptions& options) {
       const uint64_t first = f * per_frame_pixels;
       for (uint64_t i = 0; i < per_frame_pixels; ++i) {
         const uint64_t n = first + i;
-        const bool inside = *bits == 1 ? (data[n >> 3] >> (n & 7)) & 1
-                                       : fractional ? data[n] > max_fraction / 2 : data[n] != 0;
+        const bool inside = *bits == 1   ? (data[n >> 3] >> (n & 7)) & 1
+                            : fractional ? data[n] > max_fraction / 2
+                                         : data[n] != 0;
         if (!inside) continue;
         T& v = slice[i];
-        if (v != 0 && v != segment) ++overlaps[{std::min<int>(v, segment), std::max<int>(v, segment)}];
+        if (v != 0 && v != segment)
+          ++overlaps[{std::min<int>(v, segment), std::max<int>(v, segment)}];
         v = std::max(v, segment);
       }
     }
@@ -317,11 +348,15 @@ Image read_dicom_seg(const fs::path& file, const ReadOptions& options) {
     std::string list;
     uint64_t total = 0;
     for (const auto& [pair, count] : overlaps) {
-      if (list.size() < 200) list += (list.empty() ? "" : ", ") + std::to_string(pair.first) + " and " + std::to_string(pair.second);
+      if (list.size() < 200)
+        list += (list.empty() ? "" : ", ") + std::to_string(pair.first) + " and " +
+                std::to_string(pair.second);
       total += count;
     }
-    warn(options, file, "segments overlap (" + list + ") in " + std::to_string(total) +
-                            " voxels; a label map holds one label per voxel, so each keeps the higher segment number");
+    warn(options, file,
+         "segments overlap (" + list + ") in " + std::to_string(total) +
+             " voxels; a label map holds one label per voxel, so each keeps the higher segment "
+             "number");
   }
   image.labels = std::move(labels);
   return image;
