@@ -50,7 +50,8 @@ std::vector<VolumeCubic> material_cubics(size_t triangles, size_t materials, Add
       }
       return s.of[m];
     };
-    for (size_t t = b * kTriangleBlock, end = std::min(triangles, (b + 1) * kTriangleBlock); t < end; ++t)
+    for (size_t t = b * kTriangleBlock, end = std::min(triangles, (b + 1) * kTriangleBlock);
+         t < end; ++t)
       add(t, of);
     std::sort(s.met.begin(), s.met.end());
     partial[b].reserve(s.met.size());
@@ -63,13 +64,12 @@ std::vector<VolumeCubic> material_cubics(size_t triangles, size_t materials, Add
   return total;
 }
 
-
 // A part enclosed by other parts keeps its volume only through them: the volume restoration moves
 // background-facing vertices, and it has none. Smoothing can flatten such a part when it is a
 // voxel or two (measured: single voxels of random label noise with Dual Contouring, whose vertices
-// there are all sheet vertices of one contact, smoothed to zero or slightly negative volume). A part
-// left with less than this fraction of its extracted volume gets its vertices back where they were
-// extracted; the surface stays one, so its contacts stay exact.
+// there are all sheet vertices of one contact, smoothed to zero or slightly negative volume). A
+// part left with less than this fraction of its extracted volume gets its vertices back where they
+// were extracted; the surface stays one, so its contacts stay exact.
 constexpr double kCollapsedVolume = 0.25;
 
 void restore_collapsed_parts(LabelledSurface& surface, const std::vector<Vec3f>& original) {

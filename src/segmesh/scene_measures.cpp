@@ -116,7 +116,8 @@ std::vector<ContactMeasures> measure_contacts(const Scene& scene) {
   std::vector<std::optional<OrderedTriangleTree>> shells(scene.parts.size());
   tbb::parallel_for(size_t{0}, scene.parts.size(), [&](size_t p) {
     const TriMesh& m = scene.parts[p].mesh;
-    if (needs_tree[p] && !m.empty()) shells[p].emplace(m.positions.data(), m.indices.data(), m.triangle_count());
+    if (needs_tree[p] && !m.empty())
+      shells[p].emplace(m.positions.data(), m.indices.data(), m.triangle_count());
   });
   tbb::parallel_for(size_t{0}, out.size(), [&](size_t i) {
     double gap2 = 0;
