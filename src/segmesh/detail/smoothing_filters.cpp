@@ -1,5 +1,8 @@
 #include "segmesh/detail/smoothing_filters.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <utility>
 
 namespace segmesh {
@@ -41,19 +44,36 @@ void Smoother::add_neighbours_to(const F4* x, F4* acc) const {
 template <class Update>
 void Smoother::add_neighbours_then(const F4* x, F4* acc, const F4* ahead, Update&& update) const {
   constexpr size_t kAhead = 64;
-  if (topology_) {
-    add_neighbours(x, acc);
-    for_each_vertex(n_, update);
-    return;
-  }
+  // With a topology the pinned (curve and fixed) vertices wait: their sums are put right after the
+  // scatter (saved preset, plus the curve edges' terms, which read pinned neighbours' x only, so
+  // those must not have been updated yet), then they are updated. Sheet vertices are updated in
+  // the scatter as without one: the same sums, the same results.
+  const SmoothRole* role = topology_ ? topology_->role.data() : nullptr;
+  if (role) save_pinned(acc);
   t_.each_proper_then(plan_, neighbour_terms(x, acc), [&](size_t v0, size_t v1) {
     for (size_t i = v0; i != v1; ++i) {
       __builtin_prefetch(ahead + i + kAhead);
       __builtin_prefetch(x + i + kAhead);
       __builtin_prefetch(acc + i + kAhead);
-      update(i);
+      if (!role || role[i] == SmoothRole::kSheet) update(i);
     }
   });
+  if (!role) return;
+  restore_pinned(acc);
+  add_curve_neighbours(x, acc);
+  const std::vector<uint32_t>& pinned = topology_->pinned;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, pinned.size(), kVertexGrain),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t k = r.begin(); k != r.end(); ++k) update(pinned[k]);
+                    });
+}
+
+void Smoother::add_curve_neighbours(const F4* x, F4* acc) const {
+  const SmoothRole* role = topology_->role.data();
+  for (const auto& [a, b] : topology_->curve_edges) {
+    if (role[a] == SmoothRole::kCurve) acc[a] += x[b] + x[b];
+    if (role[b] == SmoothRole::kCurve) acc[b] += x[a] + x[a];
+  }
 }
 
 void Smoother::save_pinned(const F4* acc) const {
@@ -91,14 +111,10 @@ void Smoother::add_neighbours(const F4* x, F4* acc) const {
     add_neighbours_to(x, acc);
     return;
   }
-  const SmoothRole* role = topology_->role.data();
   save_pinned(acc);
   add_neighbours_to(x, acc);
   restore_pinned(acc);
-  for (const auto& [a, b] : topology_->curve_edges) {
-    if (role[a] == SmoothRole::kCurve) acc[a] += x[b] + x[b];
-    if (role[b] == SmoothRole::kCurve) acc[b] += x[a] + x[a];
-  }
+  add_curve_neighbours(x, acc);
 }
 
 void Smoother::laplacian(const std::vector<double>& factors, size_t per_tick, F4*& d,

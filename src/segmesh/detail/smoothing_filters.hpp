@@ -49,7 +49,7 @@ class Smoother {
         n_(n),
         ticker_(ticker),
         topology_(topology),
-        plan_(topology ? FinishPlan{} : finish_plan(triangles.chunks, n)) {}
+        plan_(finish_plan(triangles.chunks, n)) {}
 
   // Laplacian steps p' = p + f L(p), one per factor: D' = D + f L(o + D). `per_tick` factors
   // make one iteration. d holds D and the counts, scratch is zero; afterwards the same.
@@ -90,9 +90,11 @@ class Smoother {
   // The triangles' terms added to all their corners.
   void add_umbrella_to(const F4* d, F4* acc, bool count) const;
   void add_neighbours_to(const F4* x, F4* acc) const;
-  // add_neighbours, then update(i) for every vertex i: without a topology fused into the scatter,
-  // each vertex updated as soon as its sum is complete (scatter_then_finish, while the chunk's
-  // vertices are in cache); with one after it (the pinned vertices' sums are put right then).
+  // acc_i += 2 x_j for each curve edge (i, j) with i a curve vertex.
+  void add_curve_neighbours(const F4* x, F4* acc) const;
+  // add_neighbours, then update(i) for every vertex i, fused into the scatter: each vertex updated
+  // as soon as its sum is complete (scatter_then_finish, while the chunk's vertices are in cache);
+  // with a topology the pinned vertices after it, once their sums are put right.
   // The fused pass prefetches x, acc and `ahead` (the other buffer update reads) 64 vertices on:
   // on this machine's VM the hardware prefetch left the stream of L0 missing (docs/PERFORMANCE.md).
   template <class Update>
@@ -107,7 +109,7 @@ class Smoother {
   Ticker& ticker_;
   const SmoothTopology* topology_;  // nullptr: every vertex averages over its triangles
   mutable std::vector<F4> saved_;   // save_pinned's copy
-  FinishPlan plan_;                 // without a topology: when each vertex's sums are complete
+  FinishPlan plan_;                 // when each vertex's sums are complete
 };
 
 // A filter run on one mesh: the displacements it leaves and where the triangle counts are.
