@@ -95,7 +95,8 @@ bool pair_by_sheet(const TriMesh& shell, uint32_t v, uint32_t w, std::span<const
 // itself there) one vertex per fan beyond the first, at the same position. Where two fans share an
 // edge of four triangles (pair_by_sheet), the edge's triangles join by sheet only, so the fans part
 // there too and the edge becomes two.
-void split_pinches(TriMesh& shell, const std::vector<uint32_t>& candidates) {
+void split_pinches(TriMesh& shell, const std::vector<uint32_t>& candidates,
+                   std::vector<uint32_t>* origin) {
   if (candidates.empty()) return;
   // The shell triangles at each candidate, as (vertex, triangle) pairs.
   std::vector<std::pair<uint32_t, uint32_t>> at;
@@ -179,6 +180,7 @@ void split_pinches(TriMesh& shell, const std::vector<uint32_t>& candidates) {
       if (fresh && vertex_of_fan.size() > 1) {
         it->second = static_cast<uint32_t>(shell.positions.size());
         shell.positions.push_back(shell.positions[v]);
+        if (origin) origin->push_back((*origin)[v]);
       }
       if (it->second == v) continue;
       uint32_t* i = &shell.indices[3 * at[s + a].second];
@@ -190,7 +192,7 @@ void split_pinches(TriMesh& shell, const std::vector<uint32_t>& candidates) {
 
 }  // namespace
 
-std::vector<TriMesh> part_shells(const LabelledSurface& surface) {
+std::vector<TriMesh> part_shells(const LabelledSurface& surface, ShellOrigins* origin) {
   const size_t parts = surface.part_count;
   const size_t nt = surface.sides.size();
   // The triangles of each part: a counting sort by material.
@@ -216,7 +218,9 @@ std::vector<TriMesh> part_shells(const LabelledSurface& surface) {
                         std::vector<uint32_t>(surface.mesh.positions.size(), 0)};
   });
   std::vector<TriMesh> shells(parts);
+  if (origin) origin->assign(parts, {});
   tbb::parallel_for(size_t{0}, parts, [&](size_t p) {
+    std::vector<uint32_t>* from = origin ? &(*origin)[p] : nullptr;
     VertexStamps& stamp = stamps.local();
     const uint32_t material = static_cast<uint32_t>(p + 1);
     TriMesh& shell = shells[p];
@@ -232,12 +236,13 @@ std::vector<TriMesh> part_shells(const LabelledSurface& surface) {
           stamp.part[v] = material;
           stamp.local[v] = static_cast<uint32_t>(shell.positions.size());
           shell.positions.push_back(surface.mesh.positions[v]);
+          if (from) from->push_back(v);
           if (junction[v]) candidates.push_back(stamp.local[v]);
         }
         shell.indices.push_back(stamp.local[v]);
       }
     }
-    split_pinches(shell, candidates);
+    split_pinches(shell, candidates, from);
     if (!surface.mesh.normals.empty()) compute_vertex_normals(shell);
   });
   return shells;

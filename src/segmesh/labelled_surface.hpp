@@ -53,8 +53,12 @@ inline bool same_interface(const std::array<uint32_t, 2>& a, const std::array<ui
 }
 
 // The closed shell of every part, in part order; vertex normals when the surface has them
-// (turned around with the triangles where the part is outside).
-std::vector<TriMesh> part_shells(const LabelledSurface& surface);
+// (turned around with the triangles where the part is outside). With `origin`, also each shell
+// vertex's surface vertex ((*origin)[p][i] for shell p's vertex i; a vertex split where a shell
+// touches itself gives several shell vertices one surface vertex). The cut depends only on the
+// triangles, so a surface whose vertices moved (smoothing) is cut into the same vertices.
+using ShellOrigins = std::vector<std::vector<uint32_t>>;
+std::vector<TriMesh> part_shells(const LabelledSurface& surface, ShellOrigins* origin = nullptr);
 
 // One pair of touching parts (materials a < b) and the area of their common surface.
 struct PartContact {

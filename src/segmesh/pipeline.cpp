@@ -130,11 +130,12 @@ std::string part_name(std::string_view base, int component) {
   return std::string(base) + "_" + std::to_string(component);
 }
 
-void smooth_scene(Scene& scene, const SmoothOptions& options, Progress& progress) {
+void smooth_scene(Scene& scene, const SmoothOptions& options, Progress& progress,
+                  ShellOrigins* origin) {
   if (options.method == SmoothMethod::none) return;
   if (scene.surface) {  // one surface for all parts: smoothed once, the shells cut again
     smooth_jointly(*scene.surface, options, progress);
-    set_part_shells(scene);
+    set_part_shells(scene, origin);
     return;
   }
   // Each part's share of the step is its triangle count; smooth_mesh reports its iterations.
@@ -262,11 +263,13 @@ Scene run_pipeline(const Image& image, const MeshingOptions& options, Progress& 
   // A shared surface that smoothing changes gets its shells (and their normals) cut once, after.
   const bool smoothed = o.smooth.method != SmoothMethod::none;
   Scene scene = extract_scene(image, parts, o, progress, &t.presmooth_fallbacks, !smoothed);
+  // A shared surface's positions before smoothing, gathered into the shells' vertex order once
+  // the smoothed surface is cut (the cut depends on the triangles only).
+  std::vector<Vec3f> surface_extracted;
   if (extracted) {
     extracted->parts.resize(scene.parts.size());
     if (scene.surface && smoothed) {
-      std::vector<TriMesh> shells = part_shells(*scene.surface);
-      for (size_t p = 0; p < shells.size(); ++p) extracted->parts[p] = std::move(shells[p].positions);
+      surface_extracted = scene.surface->mesh.positions;
     } else {
       tbb::parallel_for(size_t{0}, scene.parts.size(),
                         [&](size_t p) { extracted->parts[p] = scene.parts[p].mesh.positions; });
@@ -280,7 +283,16 @@ Scene run_pipeline(const Image& image, const MeshingOptions& options, Progress& 
 
   progress.step("smoothing");
   start = Clock::now();
-  smooth_scene(scene, o.smooth, progress);
+  ShellOrigins origin;
+  smooth_scene(scene, o.smooth, progress, surface_extracted.empty() ? nullptr : &origin);
+  if (!surface_extracted.empty()) {
+    tbb::parallel_for(size_t{0}, origin.size(), [&](size_t p) {
+      std::vector<Vec3f>& positions = extracted->parts[p];
+      positions.resize(origin[p].size());
+      for (size_t i = 0; i < positions.size(); ++i) positions[i] = surface_extracted[origin[p][i]];
+    });
+    surface_extracted = {};
+  }
   t.smooth_ms = ms_since(start);
   if (o.decimate.active()) {
     progress.step("decimating");

@@ -85,7 +85,10 @@ Scene build_scene_releasing(Image& image, const MeshingOptions& options,
 
 // The smoothing step on its own: every part smoothed in parallel (normals recomputed); then
 // quality colours when asked. build_scene ends with it; the study runs it with many settings.
-void smooth_scene(Scene& scene, const SmoothOptions& options, Progress& progress = null_progress());
+// On a shared surface, smoothed once and its shells cut again; with `origin`, each shell vertex's
+// surface vertex (part_shells).
+void smooth_scene(Scene& scene, const SmoothOptions& options, Progress& progress = null_progress(),
+                  ShellOrigins* origin = nullptr);
 
 // Sets every part's vertex colours from its radii ratios (blue 0 to green 1).
 void color_scene_by_quality(Scene& scene);

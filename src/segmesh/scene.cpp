@@ -43,8 +43,8 @@ Material default_material(Role role, int32_t label, std::optional<Rgb> color) {
   return {color.value_or(palette_color(label)), 0.0f, 0.6f};
 }
 
-void set_part_shells(Scene& scene) {
-  std::vector<TriMesh> shells = part_shells(*scene.surface);
+void set_part_shells(Scene& scene, ShellOrigins* origin) {
+  std::vector<TriMesh> shells = part_shells(*scene.surface, origin);
   tbb::parallel_for(size_t{0}, scene.parts.size(), [&](size_t p) {
     compute_vertex_normals(shells[p]);
     scene.parts[p].mesh = std::move(shells[p]);

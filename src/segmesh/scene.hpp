@@ -66,7 +66,8 @@ struct Scene {
 };
 
 // Every part's mesh made anew from the scene's shared surface (precondition: it has one): its
-// shell (part_shells), with its own vertex normals. Called whenever the surface changed.
-void set_part_shells(Scene& scene);
+// shell (part_shells), with its own vertex normals. Called whenever the surface changed. With
+// `origin`, each shell vertex's surface vertex (part_shells).
+void set_part_shells(Scene& scene, ShellOrigins* origin = nullptr);
 
 }  // namespace segmesh

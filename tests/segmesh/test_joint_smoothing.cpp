@@ -7,17 +7,21 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <random>
+#include <string>
 #include <unordered_map>
 
 #include "segmesh/detail/fold_repair.hpp"
 #include "segmesh/joint_smoothing.hpp"
 #include "segmesh/mesh_distance.hpp"
 #include "segmesh/mesh_measures.hpp"
+#include "segmesh/multi_label_dual_contouring.hpp"
 #include "segmesh/multi_label_marching_cubes.hpp"
 #include "segmesh/phantom.hpp"
 #include "segmesh/pipeline.hpp"
 #include "segmesh/quality.hpp"
 #include "segmesh/scene_measures.hpp"
+#include "support/labelled_surface_checks.hpp"
 #include "support/mesh_crossings.hpp"
 #include "support/sound_parts.hpp"
 #include "support/test_fields.hpp"
@@ -247,6 +251,55 @@ TEST(JointSmoothing, PartsThatDoNotTouchGiveTheIndependentSurfaces) {
     EXPECT_NEAR(a, b, 1e-6 * b) << p;
     EXPECT_LT(mesh_deviation(shells[p], scene.parts[p].mesh).hausdorff, 1e-4) << p;
   }
+}
+
+// The report's positions before smoothing are the surface's, gathered through the cut after
+// smoothing (pipeline.cpp): that needs part_shells' origins to name each shell vertex's surface
+// vertex, pinch-split copies included, and the cut of a moved surface to be the same cut.
+TEST(JointSmoothing, ShellOriginsNameEachShellVertexsSurfaceVertex) {
+  std::mt19937 rng(5);
+  size_t split = 0;
+  for (int round = 0; round < 12; ++round) {
+    const LabelVolume v = test::random_labels(rng, 2 + round % 4);
+    for (const bool dual : {false, true}) {
+      const test::ExtractedLabels x = test::extract_labels(
+          v, 26, [&](const Components& c, const std::vector<size_t>& parts) {
+            return dual ? multi_label_dual_contouring(v.grid, c, parts, {.connectivity = 26})
+                        : multi_label_marching_cubes(v.grid, c, parts, 26, null_progress());
+          });
+      const std::string what = "round " + std::to_string(round) + (dual ? " dc" : " mc");
+      ShellOrigins origin;
+      const std::vector<TriMesh> shells = part_shells(x.surface, &origin);
+      // Every surface vertex moved by its own amount, then cut again.
+      LabelledSurface moved = x.surface;
+      for (size_t i = 0; i < moved.mesh.positions.size(); ++i) {
+        Vec3f& q = moved.mesh.positions[i];
+        q = {q.x + float(i % 7), q.y + 0.5f, q.z - 1.0f};
+      }
+      ShellOrigins moved_origin;
+      const std::vector<TriMesh> moved_shells = part_shells(moved, &moved_origin);
+      ASSERT_EQ(origin.size(), shells.size()) << what;
+      EXPECT_EQ(moved_origin, origin) << what;
+      for (size_t p = 0; p < shells.size(); ++p) {
+        ASSERT_EQ(origin[p].size(), shells[p].positions.size()) << what;
+        EXPECT_EQ(shells[p].indices, x.shells[p].indices) << what;
+        EXPECT_EQ(moved_shells[p].indices, shells[p].indices) << what;
+        for (size_t i = 0; i < origin[p].size(); ++i) {
+          const uint32_t from = origin[p][i];
+          ASSERT_LT(from, x.surface.mesh.positions.size()) << what;
+          const Vec3f a = shells[p].positions[i], b = x.surface.mesh.positions[from];
+          const Vec3f c = moved_shells[p].positions[i], d = moved.mesh.positions[from];
+          EXPECT_TRUE(a.x == b.x && a.y == b.y && a.z == b.z) << what;
+          EXPECT_TRUE(c.x == d.x && c.y == d.y && c.z == d.z) << what;
+        }
+        std::vector<uint32_t> sorted = origin[p];
+        std::sort(sorted.begin(), sorted.end());
+        const size_t distinct = size_t(std::unique(sorted.begin(), sorted.end()) - sorted.begin());
+        split += sorted.size() - distinct;  // the copies of split vertices
+      }
+    }
+  }
+  EXPECT_GT(split, 0u) << "no shell vertex was split: the test misses pinches";
 }
 
 TEST(JointSmoothing, RefusesWhatItCannotDo) {
