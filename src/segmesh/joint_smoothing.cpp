@@ -21,31 +21,31 @@ namespace segmesh {
 
 namespace {
 
-// Each material's cubic (VolumeCubic) summed over the triangles: add(t, of) adds triangle t's
-// terms to of(material). Fixed blocks of triangles, added in block order, so the result does not
-// depend on the number of threads. A block keeps the cubics of the materials its triangles touch,
-// not one per part: on a 32^3 map of random labels (31 176 parts) a dense array per block meant
-// zeroing and adding 120 MB.
-template <class AddTriangle>
-std::vector<VolumeCubic> material_cubics(size_t triangles, size_t materials, AddTriangle&& add) {
+// A sum per material over the triangles (T: a VolumeCubic, or anything with + and a zero
+// T{}): add(t, of) adds triangle t's terms to of(material). Fixed blocks of triangles, added in
+// block order, so the result does not depend on the number of threads. A block keeps the sums of
+// the materials its triangles touch, not one per part: on a 32^3 map of random labels (31 176
+// parts) a dense array of cubics per block meant zeroing and adding 120 MB.
+template <class T, class AddTriangle>
+std::vector<T> material_sums(size_t triangles, size_t materials, AddTriangle&& add) {
   const size_t blocks = (triangles + kTriangleBlock - 1) / kTriangleBlock;
-  // Per block: (material, cubic) for the materials met, ascending.
-  std::vector<std::vector<std::pair<uint32_t, VolumeCubic>>> partial(blocks);
+  // Per block: (material, sum) for the materials met, ascending.
+  std::vector<std::vector<std::pair<uint32_t, T>>> partial(blocks);
   struct Scratch {
-    std::vector<VolumeCubic> of;
+    std::vector<T> of;
     std::vector<uint64_t> block;  // per material: the block (+ 1) that last met it
     std::vector<uint32_t> met;
   };
   tbb::enumerable_thread_specific<Scratch> scratch([&] {
-    return Scratch{std::vector<VolumeCubic>(materials), std::vector<uint64_t>(materials, 0), {}};
+    return Scratch{std::vector<T>(materials), std::vector<uint64_t>(materials, 0), {}};
   });
   tbb::parallel_for(size_t{0}, blocks, [&](size_t b) {
     Scratch& s = scratch.local();
     // A material's cubic starts at zero when the block first meets it, as a fresh sum would.
-    auto of = [&](uint32_t m) -> VolumeCubic& {
+    auto of = [&](uint32_t m) -> T& {
       if (s.block[m] != b + 1) {
         s.block[m] = b + 1;
-        s.of[m] = VolumeCubic{};
+        s.of[m] = T{};
         s.met.push_back(m);
       }
       return s.of[m];
@@ -58,7 +58,7 @@ std::vector<VolumeCubic> material_cubics(size_t triangles, size_t materials, Add
     for (uint32_t m : s.met) partial[b].push_back({m, s.of[m]});
     s.met.clear();
   });
-  std::vector<VolumeCubic> total(materials);
+  std::vector<T> total(materials);
   for (const auto& block : partial)
     for (const auto& [m, c] : block) total[m] = total[m] + c;
   return total;
@@ -74,23 +74,29 @@ constexpr double kCollapsedVolume = 0.25;
 
 void restore_collapsed_parts(LabelledSurface& surface, const std::vector<Vec3f>& original) {
   TriMesh& mesh = surface.mesh;
-  std::vector<double> now(surface.part_count + 1, 0), before(surface.part_count + 1, 0);
+  struct Volumes {  // 6 times the enclosed volume, smoothed and extracted
+    double now = 0, before = 0;
+    Volumes operator+(const Volumes& o) const { return {now + o.now, before + o.before}; }
+  };
   auto volume = [](Vec3f a, Vec3f b, Vec3f c) {
-    return dot(to_double(a), cross(to_double(b), to_double(c))) / 6;
+    return dot(to_double(a), cross(to_double(b), to_double(c)));
   };
   const size_t nt = surface.sides.size();
-  for (size_t t = 0; t < nt; ++t) {
-    const uint32_t* x = &mesh.indices[3 * t];
-    const double v = volume(mesh.positions[x[0]], mesh.positions[x[1]], mesh.positions[x[2]]);
-    const double w = volume(original[x[0]], original[x[1]], original[x[2]]);
-    const auto [inside, outside] = surface.sides[t];
-    now[inside] += v, before[inside] += w;
-    now[outside] -= v, before[outside] -= w;
-  }
-  std::vector<char> collapsed(now.size(), 0);
+  const std::vector<Volumes> v =
+      material_sums<Volumes>(nt, surface.part_count + 1, [&](size_t t, auto&& of) {
+        const uint32_t* x = &mesh.indices[3 * t];
+        const double now = volume(mesh.positions[x[0]], mesh.positions[x[1]], mesh.positions[x[2]]);
+        const double before = volume(original[x[0]], original[x[1]], original[x[2]]);
+        const auto [inside, outside] = surface.sides[t];
+        Volumes& in = of(inside);
+        in.now += now, in.before += before;
+        Volumes& out = of(outside);
+        out.now -= now, out.before -= before;
+      });
+  std::vector<char> collapsed(v.size(), 0);
   bool any = false;
-  for (size_t m = 1; m < now.size(); ++m)
-    any |= collapsed[m] = before[m] > 0 && now[m] < kCollapsedVolume * before[m];
+  for (size_t m = 1; m < v.size(); ++m)
+    any |= collapsed[m] = v[m].before > 0 && v[m].now < kCollapsedVolume * v[m].before;
   if (!any) return;
   for (size_t t = 0; t < nt; ++t) {
     const auto [inside, outside] = surface.sides[t];
@@ -150,7 +156,7 @@ void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Prog
     for_each_vertex(nv, [&](size_t i) {
       if (topology.free_material[i] != 0) normal[i] = xyz_d(unit_or(a[i], F4{}));
     });
-    const std::vector<VolumeCubic> k = material_cubics(
+    const std::vector<VolumeCubic> k = material_sums<VolumeCubic>(
         surface.sides.size(), surface.part_count + 1, [&](size_t t, auto&& of) {
           const uint32_t* x = &idx[3 * t];
           const auto [inside, outside] = surface.sides[t];

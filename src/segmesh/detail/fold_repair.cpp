@@ -6,6 +6,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 namespace segmesh {
@@ -20,26 +21,48 @@ std::vector<uint32_t> triangles_near_junctions(const TriMesh& mesh,
                                                const std::vector<SmoothRole>& role, int reach) {
   const size_t nt = mesh.triangle_count();
   const uint32_t* idx = mesh.indices.data();
+  // Passes over fixed blocks of triangles in parallel; a corner is marked with a relaxed atomic
+  // store (several triangles may mark one vertex at once, always with 1).
+  constexpr size_t kBlock = size_t{1} << 14;
+  const size_t blocks = (nt + kBlock - 1) / kBlock;
+  auto for_each_block = [&](auto&& body) {
+    tbb::parallel_for(size_t{0}, blocks, [&](size_t b) {
+      body(b, b * kBlock, std::min(nt, (b + 1) * kBlock));
+    });
+  };
+  auto mark = [](std::vector<uint8_t>& near, const uint32_t* x) {
+    for (int c = 0; c < 3; ++c)
+      std::atomic_ref<uint8_t>(near[x[c]]).store(1, std::memory_order_relaxed);
+  };
   std::vector<uint8_t> near(role.size(), 0);
-  for (size_t t = 0; t < nt; ++t) {
-    const uint32_t* x = idx + 3 * t;
-    if (role[x[0]] != SmoothRole::kSheet || role[x[1]] != SmoothRole::kSheet ||
-        role[x[2]] != SmoothRole::kSheet)
-      near[x[0]] = near[x[1]] = near[x[2]] = 1;
-  }
+  for_each_block([&](size_t, size_t t0, size_t t1) {
+    for (size_t t = t0; t < t1; ++t) {
+      const uint32_t* x = idx + 3 * t;
+      if (role[x[0]] != SmoothRole::kSheet || role[x[1]] != SmoothRole::kSheet ||
+          role[x[2]] != SmoothRole::kSheet)
+        mark(near, x);
+    }
+  });
   for (int ring = 1; ring < reach; ++ring) {
     std::vector<uint8_t> next = near;
-    for (size_t t = 0; t < nt; ++t) {
-      const uint32_t* x = idx + 3 * t;
-      if (near[x[0]] || near[x[1]] || near[x[2]]) next[x[0]] = next[x[1]] = next[x[2]] = 1;
-    }
+    for_each_block([&](size_t, size_t t0, size_t t1) {
+      for (size_t t = t0; t < t1; ++t) {
+        const uint32_t* x = idx + 3 * t;
+        if (near[x[0]] || near[x[1]] || near[x[2]]) mark(next, x);
+      }
+    });
     near.swap(next);
   }
+  // The triangles with every corner near, in triangle order.
+  std::vector<std::vector<uint32_t>> found(blocks);
+  for_each_block([&](size_t b, size_t t0, size_t t1) {
+    for (size_t t = t0; t < t1; ++t) {
+      const uint32_t* x = idx + 3 * t;
+      if (near[x[0]] && near[x[1]] && near[x[2]]) found[b].push_back(uint32_t(t));
+    }
+  });
   std::vector<uint32_t> out;
-  for (size_t t = 0; t < nt; ++t) {
-    const uint32_t* x = idx + 3 * t;
-    if (near[x[0]] && near[x[1]] && near[x[2]]) out.push_back(uint32_t(t));
-  }
+  for (const auto& block : found) out.insert(out.end(), block.begin(), block.end());
   return out;
 }
 
