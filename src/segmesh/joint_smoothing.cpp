@@ -122,7 +122,11 @@ void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Prog
   const size_t nv = mesh.positions.size();
   const std::vector<uint32_t>& idx = mesh.indices;
   const Triangles triangles{idx.data(), triangle_chunks(idx)};
-  const SurfaceRoles topology = surface_roles(surface);
+  // Both windings of one contact ((1, 2) and (2, 1), which multi-label Marching Cubes mixes along
+  // a contact, and (p, 0) beside (0, p)) are one interface: a vertex where the winding changes is
+  // a sheet vertex like its neighbours. Counted as two (the rule before), they pinned thousands
+  // of contact vertices, which never moved and left slivers and kinks in the contacts.
+  const SurfaceRoles topology = surface_roles(surface, InterfaceSides::either_way);
   const std::vector<Vec3f> original = mesh.positions;
   const Vec3f* o = original.data();
   const Vec3d centre = box_centre(mesh.positions);
@@ -143,15 +147,25 @@ void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Prog
   if (options.preserve_volume) {
     // Unit normals of the vertices the restoration moves (zero for the others, which then count
     // as fixed in every part's cubic).
+    // A free vertex's triangles separate its part from the background wound either way, so each
+    // triangle's area vector is turned to point out of its part (the others' normals are unused).
     F4Buffer area(nv);
     F4* a = area.data();
-    add_area_vectors(
-        triangles,
-        [&](uint32_t i) {
-          const Vec3d p = smoothed[i];
-          return F4{float(p.x), float(p.y), float(p.z), 0.0f};
-        },
-        a);
+    auto at = [&](uint32_t i) {
+      const Vec3d p = smoothed[i];
+      return F4{float(p.x), float(p.y), float(p.z), 0.0f};
+    };
+    scatter_triangles(triangles.chunks, [&](size_t t0, size_t t1) {
+      for_each_interleaved(t0, t1, [&](size_t t) {
+        const uint32_t* x = &idx[3 * t];
+        const F4 p0 = at(x[0]);
+        F4 n = cross3(at(x[1]) - p0, at(x[2]) - p0);
+        if (surface.sides[t][0] == 0) n = F4{} - n;  // the background inside: its part outside
+        a[x[0]] += n;
+        a[x[1]] += n;
+        a[x[2]] += n;
+      });
+    });
     normal.assign(nv, Vec3d{});
     for_each_vertex(nv, [&](size_t i) {
       if (topology.free_material[i] != 0) normal[i] = xyz_d(unit_or(a[i], F4{}));

@@ -253,6 +253,67 @@ TEST(JointSmoothing, PartsThatDoNotTouchGiveTheIndependentSurfaces) {
   }
 }
 
+// Both windings of a contact are one interface (multi-label Marching Cubes mixes (1, 2) and
+// (2, 1) along one contact, and (p, 0) with (0, p)): a vertex where the winding changes is
+// smoothed like its neighbours. Counted as two interfaces, such vertices stayed where they were
+// extracted: on the test-size phantom they left triangles with radii ratios near 1e-8 and
+// thousands of contact vertices unmoved.
+TEST(JointSmoothing, ContactVerticesWhereTheWindingChangesAreSmoothed) {
+  const Image image =
+      test::label_image(make_phantom({.size = {256, 256, 102}, .spacing = {0.394, 0.394, 4}}));
+  MeshingOptions o;
+  o.surfaces = Surfaces::conforming;
+  o.smooth.method = SmoothMethod::none;
+  const Scene raw = build_scene(image, o);
+  o.smooth = default_smoothing();
+  const Scene smoothed = build_scene(image, o);
+  ASSERT_TRUE(raw.surface && smoothed.surface);
+  const LabelledSurface& a = *raw.surface;
+  const LabelledSurface& b = *smoothed.surface;
+  ASSERT_EQ(a.mesh.positions.size(), b.mesh.positions.size());
+  // Contact vertices with every triangle on one contact (either winding), and how many of them
+  // the smoothing left exactly where they were.
+  std::vector<int> state(a.mesh.positions.size(), 0);  // 0 none, 1 one contact, 2 other
+  std::vector<std::array<uint32_t, 2>> pair(a.mesh.positions.size(), {0, 0});
+  size_t mixed = 0;
+  for (size_t t = 0; t < a.sides.size(); ++t) {
+    const auto [in, out] = a.sides[t];
+    const std::array<uint32_t, 2> key{std::min(in, out), std::max(in, out)};
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = a.mesh.indices[3 * t + size_t(k)];
+      if (in == 0 || out == 0) {
+        state[v] = 2;
+      } else if (state[v] == 0) {
+        state[v] = 1, pair[v] = key;
+      } else if (state[v] == 1 && pair[v] != key) {
+        state[v] = 2;
+      }
+    }
+    mixed += in > out && in != 0 && out != 0;
+  }
+  ASSERT_GT(mixed, 100u) << "the contacts are not wound both ways: the test shows nothing";
+  size_t inner = 0, unmoved = 0;
+  for (size_t v = 0; v < state.size(); ++v) {
+    if (state[v] != 1) continue;
+    ++inner;
+    const Vec3f p = a.mesh.positions[v], q = b.mesh.positions[v];
+    unmoved += p.x == q.x && p.y == q.y && p.z == q.z;
+  }
+  ASSERT_GT(inner, 1000u);
+  EXPECT_LT(double(unmoved), 0.01 * double(inner)) << unmoved << " of " << inner;
+  for (const Part& part : smoothed.parts) {
+    const TriMesh& m = part.mesh;
+    double worst = 1;
+    for (size_t t = 0; t < m.triangle_count(); ++t) {
+      const uint32_t* x = &m.indices[3 * t];
+      worst = std::min(worst, radii_ratio(to_double(m.positions[x[0]]),
+                                          to_double(m.positions[x[1]]),
+                                          to_double(m.positions[x[2]])));
+    }
+    EXPECT_GT(worst, 1e-4) << part.name;
+  }
+}
+
 // The report's positions before smoothing are the surface's, gathered through the cut after
 // smoothing (pipeline.cpp): that needs part_shells' origins to name each shell vertex's surface
 // vertex, pinch-split copies included, and the cut of a moved surface to be the same cut.

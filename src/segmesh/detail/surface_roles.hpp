@@ -29,8 +29,8 @@ struct SurfaceRoles {
 // Whether triangles of the same two materials wound the two ways ((1, 2) and (2, 1): multi-label
 // Marching Cubes makes both along one contact) are one interface (either_way) or two (ordered,
 // which makes the vertices where the winding changes curve or fixed vertices). Joint smoothing
-// uses ordered, as it always has; decimation either_way, or it could not collapse those
-// vertices.
+// and decimation use either_way: with ordered thousands of contact vertices never moved or
+// collapsed.
 enum class InterfaceSides { ordered, either_way };
 
 SurfaceRoles surface_roles(const LabelledSurface& surface,
