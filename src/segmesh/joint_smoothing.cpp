@@ -69,10 +69,14 @@ std::vector<T> material_sums(size_t triangles, size_t materials, AddTriangle&& a
 // voxel or two (measured: single voxels of random label noise with Dual Contouring, whose vertices
 // there are all sheet vertices of one contact, smoothed to zero or slightly negative volume). A
 // part left with less than this fraction of its extracted volume gets its vertices back where they
-// were extracted; the surface stays one, so its contacts stay exact.
+// were extracted; the surface stays one, so its contacts stay exact. Only the parts in `check`
+// (by material) are looked at: a part whose volume the restoration gave back (its cubic at the
+// solved offset) is left out, since the fold repair after it only moves vertices part of the way
+// back toward where they were extracted.
 constexpr double kCollapsedVolume = 0.25;
 
-void restore_collapsed_parts(LabelledSurface& surface, const std::vector<Vec3f>& original) {
+void restore_collapsed_parts(LabelledSurface& surface, const std::vector<Vec3f>& original,
+                             const std::vector<char>& check) {
   TriMesh& mesh = surface.mesh;
   struct Volumes {  // 6 times the enclosed volume, smoothed and extracted
     double now = 0, before = 0;
@@ -84,10 +88,11 @@ void restore_collapsed_parts(LabelledSurface& surface, const std::vector<Vec3f>&
   const size_t nt = surface.sides.size();
   const std::vector<Volumes> v =
       material_sums<Volumes>(nt, surface.part_count + 1, [&](size_t t, auto&& of) {
+        const auto [inside, outside] = surface.sides[t];
+        if (!check[inside] && !check[outside]) return;
         const uint32_t* x = &mesh.indices[3 * t];
         const double now = volume(mesh.positions[x[0]], mesh.positions[x[1]], mesh.positions[x[2]]);
         const double before = volume(original[x[0]], original[x[1]], original[x[2]]);
-        const auto [inside, outside] = surface.sides[t];
         Volumes& in = of(inside);
         in.now += now, in.before += before;
         Volumes& out = of(outside);
@@ -96,7 +101,7 @@ void restore_collapsed_parts(LabelledSurface& surface, const std::vector<Vec3f>&
   std::vector<char> collapsed(v.size(), 0);
   bool any = false;
   for (size_t m = 1; m < v.size(); ++m)
-    any |= collapsed[m] = v[m].before > 0 && v[m].now < kCollapsedVolume * v[m].before;
+    any |= collapsed[m] = check[m] && v[m].before > 0 && v[m].now < kCollapsedVolume * v[m].before;
   if (!any) return;
   for (size_t t = 0; t < nt; ++t) {
     const auto [inside, outside] = surface.sides[t];
@@ -143,6 +148,9 @@ void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Prog
   mesh.normals.clear();
 
   std::vector<Restoration> restore(surface.part_count + 1);
+  // The parts the collapse guard looks at: all but those the restoration gave their volume back.
+  std::vector<char> check(surface.part_count + 1, 1);
+  check[0] = 0;
   std::vector<Vec3d> normal;
   if (options.preserve_volume) {
     // Unit normals of the vertices the restoration moves (zero for the others, which then count
@@ -182,7 +190,12 @@ void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Prog
           add(inside, x[0], x[1], x[2]);
           if (outside != 0) add(outside, x[0], x[2], x[1]);  // the other side, turned around
         });
-    for (size_t m = 1; m < k.size(); ++m) restore[m] = solve_restoration(k[m]);
+    for (size_t m = 1; m < k.size(); ++m) {
+      restore[m] = solve_restoration(k[m]);
+      const double d = restore[m].delta;
+      const double restored = k[m].k0 + d * (k[m].k1 + d * (k[m].k2 + d * k[m].k3));
+      check[m] = restore[m].keep_original || !(restored >= 2 * kCollapsedVolume * k[m].original);
+    }
   }
   for_each_vertex(nv, [&](size_t i) {
     const uint32_t m = topology.free_material[i];
@@ -192,7 +205,7 @@ void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Prog
     mesh.positions[i] = to_float(p);
   });
   repair_folds(mesh, original, topology.smooth.role, surface.fold_reach);
-  restore_collapsed_parts(surface, original);
+  restore_collapsed_parts(surface, original, check);
 }
 
 }  // namespace segmesh

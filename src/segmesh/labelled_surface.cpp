@@ -22,11 +22,12 @@ struct PartTriangle {
   bool turned;
 };
 
-// Per thread: which part last used each surface vertex, and its id in that part's shell.
-struct VertexStamps {
-  std::vector<uint32_t> part;  // part + 1, 0: never
-  std::vector<uint32_t> local;
+// Per thread, per surface vertex: which part last used it (part + 1, 0: never) and its id in that
+// part's shell, side by side (one cache line per corner looked up).
+struct VertexStamp {
+  uint32_t part, local;
 };
+using VertexStamps = std::vector<VertexStamp>;
 
 // The two vertices of triangle t other than v, in the triangle's order.
 std::pair<uint32_t, uint32_t> others_of(const TriMesh& shell, uint32_t t, uint32_t v) {
@@ -111,35 +112,56 @@ void split_pinches(TriMesh& shell, const std::vector<uint32_t>& candidates,
   for (size_t s = 0; s < at.size(); ++s)
     if (s == 0 || at[s].first != at[s - 1].first) group_first.push_back(s);
   group_first.push_back(at.size());
+  // The edges (v, w) at a candidate with four shell triangles (where two sheets of the shell
+  // share an edge; usually none), in candidate then neighbour order, each with its triangles.
+  struct FourEdge {
+    size_t group;
+    uint32_t w;
+    std::array<uint32_t, 4> triangles;
+  };
+  std::vector<FourEdge> fours;
+  std::vector<std::pair<uint32_t, uint32_t>> by_neighbour;  // (w, triangle), sorted
+  for (size_t g = 0; g + 1 < group_first.size(); ++g) {
+    const uint32_t v = at[group_first[g]].first;
+    by_neighbour.clear();
+    for (size_t a = group_first[g]; a < group_first[g + 1]; ++a) {
+      const uint32_t t = at[a].second;
+      const auto [x, y] = others_of(shell, t, v);
+      by_neighbour.push_back({x, t});
+      by_neighbour.push_back({y, t});
+    }
+    std::sort(by_neighbour.begin(), by_neighbour.end());
+    for (size_t i = 0, j; i < by_neighbour.size(); i = j) {
+      for (j = i + 1; j < by_neighbour.size() && by_neighbour[j].first == by_neighbour[i].first;)
+        ++j;
+      if (j - i != 4) continue;
+      fours.push_back({g, by_neighbour[i].first, {}});
+      for (size_t k = 0; k < 4; ++k) fours.back().triangles[k] = by_neighbour[i + k].second;
+    }
+  }
   std::vector<uint32_t> around;
-  // Edges of four triangles at a candidate, their triangles paired by sheet (the first two and
-  // the last two), keyed by (lower vertex, higher vertex).
-  // Passes until no edge is added: a walk may cross edges paired in an earlier pass.
+  // Their triangles paired by sheet (the first two and the last two), keyed by (lower vertex,
+  // higher vertex). Passes until no edge is added: a walk may cross edges paired in an earlier
+  // pass.
   SheetPairs sheets;
-  for (bool added = true; added;) {
+  for (bool added = !fours.empty(); added;) {
     added = false;
-    for (size_t g = 0; g + 1 < group_first.size(); ++g) {
-      const uint32_t v = at[group_first[g]].first;
+    for (const FourEdge& e : fours) {
+      const uint32_t v = at[group_first[e.group]].first, w = e.w;
+      const std::pair<uint32_t, uint32_t> key{std::min(v, w), std::max(v, w)};
+      if (sheets.count(key)) continue;
       around.clear();
-      for (size_t a = group_first[g]; a < group_first[g + 1]; ++a) around.push_back(at[a].second);
-      std::map<uint32_t, std::vector<uint32_t>> by_neighbour;
-      for (uint32_t t : around) {
-        const auto [a, b] = others_of(shell, t, v);
-        by_neighbour[a].push_back(t);
-        by_neighbour[b].push_back(t);
-      }
-      for (const auto& [w, ts] : by_neighbour) {
-        const std::pair<uint32_t, uint32_t> key{std::min(v, w), std::max(v, w)};
-        if (ts.size() != 4 || sheets.count(key)) continue;
-        std::array<uint32_t, 4> edge{ts[0], ts[1], ts[2], ts[3]};
-        if (pair_by_sheet(shell, v, w, around, sheets, edge)) {
-          sheets[key] = edge;
-          added = true;
-        }
+      for (size_t a = group_first[e.group]; a < group_first[e.group + 1]; ++a)
+        around.push_back(at[a].second);
+      std::array<uint32_t, 4> edge = e.triangles;
+      if (pair_by_sheet(shell, v, w, around, sheets, edge)) {
+        sheets[key] = edge;
+        added = true;
       }
     }
   }
   std::vector<uint32_t> fan;
+  std::vector<std::pair<uint32_t, uint32_t>> vertex_of_fan;
   for (size_t g = 0; g + 1 < group_first.size(); ++g) {
     const size_t s = group_first[g], e = group_first[g + 1];
     const uint32_t v = at[s].first;
@@ -172,15 +194,21 @@ void split_pinches(TriMesh& shell, const std::vector<uint32_t>& candidates,
             fan[find(uint32_t(a))] = find(uint32_t(b));
       }
     }
-    // Fans by their first triangle; the first fan keeps v.
-    std::map<uint32_t, uint32_t> vertex_of_fan;
+    // Fans in the order of their first triangle; the first fan keeps v.
+    vertex_of_fan.clear();  // (fan root, its vertex)
     for (size_t a = 0; a < n; ++a) {
       const uint32_t root = find(uint32_t(a));
-      auto [it, fresh] = vertex_of_fan.try_emplace(root, v);
-      if (fresh && vertex_of_fan.size() > 1) {
-        it->second = static_cast<uint32_t>(shell.positions.size());
-        shell.positions.push_back(shell.positions[v]);
-        if (origin) origin->push_back((*origin)[v]);
+      auto it = std::find_if(vertex_of_fan.begin(), vertex_of_fan.end(),
+                             [&](const auto& f) { return f.first == root; });
+      if (it == vertex_of_fan.end()) {
+        uint32_t vertex = v;
+        if (!vertex_of_fan.empty()) {
+          vertex = static_cast<uint32_t>(shell.positions.size());
+          shell.positions.push_back(shell.positions[v]);
+          if (origin) origin->push_back((*origin)[v]);
+        }
+        vertex_of_fan.push_back({root, vertex});
+        it = vertex_of_fan.end() - 1;
       }
       if (it->second == v) continue;
       uint32_t* i = &shell.indices[3 * at[s + a].second];
@@ -214,8 +242,7 @@ std::vector<TriMesh> part_shells(const LabelledSurface& surface, ShellOrigins* o
   std::vector<char> junction(surface.mesh.positions.size(), 0);
   for (uint32_t v : surface.junction_vertices) junction[v] = 1;
   tbb::enumerable_thread_specific<VertexStamps> stamps([&] {
-    return VertexStamps{std::vector<uint32_t>(surface.mesh.positions.size(), 0),
-                        std::vector<uint32_t>(surface.mesh.positions.size(), 0)};
+    return VertexStamps(surface.mesh.positions.size(), VertexStamp{0, 0});
   });
   std::vector<TriMesh> shells(parts);
   if (origin) origin->assign(parts, {});
@@ -226,20 +253,24 @@ std::vector<TriMesh> part_shells(const LabelledSurface& surface, ShellOrigins* o
     TriMesh& shell = shells[p];
     std::vector<uint32_t> candidates;
     const size_t count = first[material + 1] - first[material];
-    shell.indices.reserve(3 * count);
+    shell.indices.resize(3 * count);
+    // A closed shell has about half as many vertices as triangles.
+    shell.positions.reserve(count / 2 + 64);
+    if (from) from->reserve(count / 2 + 64);
+    uint32_t* out = shell.indices.data();
     for (size_t q = first[material]; q < first[material + 1]; ++q) {
       const PartTriangle& pt = triangles[q];
       const uint32_t* i = &surface.mesh.indices[3 * size_t{pt.triangle}];
       const uint32_t corners[3] = {i[0], pt.turned ? i[2] : i[1], pt.turned ? i[1] : i[2]};
       for (uint32_t v : corners) {
-        if (stamp.part[v] != material) {
-          stamp.part[v] = material;
-          stamp.local[v] = static_cast<uint32_t>(shell.positions.size());
+        VertexStamp& st = stamp[v];
+        if (st.part != material) {
+          st = {material, static_cast<uint32_t>(shell.positions.size())};
           shell.positions.push_back(surface.mesh.positions[v]);
           if (from) from->push_back(v);
-          if (junction[v]) candidates.push_back(stamp.local[v]);
+          if (junction[v]) candidates.push_back(st.local);
         }
-        shell.indices.push_back(stamp.local[v]);
+        *out++ = st.local;
       }
     }
     split_pinches(shell, candidates, from);

@@ -53,18 +53,28 @@ SurfaceRoles surface_roles(const LabelledSurface& s, InterfaceSides kind) {
   // vertex is on several interfaces, and a comparison sort of the 2.4 M edge sides took 0.3 s of
   // CPU): counted and placed in parallel passes over the triangles, in whatever order the
   // threads meet them, then each vertex's few sorted by (b, key), which makes the order exact.
+  // The triangles with two corners on several interfaces (the only ones with such an edge), found
+  // in one pass over all triangles, per block of triangles; the two passes below visit only them.
+  constexpr size_t kBlock = size_t{1} << 13;
+  const size_t blocks = (s.sides.size() + kBlock - 1) / kBlock;
+  std::vector<std::vector<uint32_t>> junction_triangles(blocks);
+  tbb::parallel_for(size_t{0}, blocks, [&](size_t b) {
+    for (size_t t = b * kBlock, end = std::min(s.sides.size(), (b + 1) * kBlock); t < end; ++t) {
+      const uint32_t* x = idx + 3 * t;
+      if (several[x[0]] + several[x[1]] + several[x[2]] >= 2)
+        junction_triangles[b].push_back(uint32_t(t));
+    }
+  });
   auto for_each_edge = [&](auto&& visit) {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, s.sides.size(), size_t{1} << 13),
-                      [&](const tbb::blocked_range<size_t>& r) {
-                        for (size_t t = r.begin(); t != r.end(); ++t) {
-                          const uint32_t* x = idx + 3 * t;
-                          for (int c = 0; c < 3; ++c) {
-                            const uint32_t a = x[c], b = x[(c + 1) % 3];
-                            if (a != b && several[a] && several[b])
-                              visit(std::min(a, b), std::max(a, b), t);
-                          }
-                        }
-                      });
+    tbb::parallel_for(size_t{0}, blocks, [&](size_t b) {
+      for (const uint32_t t : junction_triangles[b]) {
+        const uint32_t* x = idx + 3 * size_t{t};
+        for (int c = 0; c < 3; ++c) {
+          const uint32_t a = x[c], e = x[(c + 1) % 3];
+          if (a != e && several[a] && several[e]) visit(std::min(a, e), std::max(a, e), t);
+        }
+      }
+    });
   };
   std::vector<uint32_t> start(nv + 1, 0);
   for_each_edge([&](uint32_t a, uint32_t, size_t) {

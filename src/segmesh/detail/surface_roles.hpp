@@ -8,7 +8,8 @@
 // background belongs to (0 for every other vertex), which joint smoothing's volume restoration
 // moves.
 //
-// Cost: two parallel passes over the triangles, plus one parallel sort of the edges between
+// Cost: two parallel passes over the triangles (each vertex's interfaces; the triangles with two
+// corners on several), two over those triangles and a parallel sort of their edges between
 // vertices of two or more interfaces (a small fraction of all edges).
 #pragma once
 
