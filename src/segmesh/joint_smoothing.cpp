@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -144,6 +145,10 @@ void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Prog
     smoothed[i] = counts[i][3] > 0 ? run.gain * (to_d(o[i]) - centre) + xyz_d(run.d[i])
                                    : to_d(o[i]) - centre;
   });
+  // The filter's zero buffer serves the restoration's normals (fresh memory costs page faults).
+  std::optional<F4Buffer> spare =
+      std::move(run.own_scratch && run.own_scratch->data() == run.scratch ? run.own_scratch
+                                                                          : run.own_d);
   run = FilterRun{};
   mesh.normals.clear();
 
@@ -151,14 +156,13 @@ void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Prog
   // The parts the collapse guard looks at: all but those the restoration gave their volume back.
   std::vector<char> check(surface.part_count + 1, 1);
   check[0] = 0;
-  std::vector<Vec3d> normal;
+  // Unit normals of the vertices the restoration moves (zero for the others, which then count as
+  // fixed in every part's cubic), in the spare buffer.
+  F4* a = spare->data();
+  auto normal = [&](uint32_t i) { return xyz_d(a[i]); };
   if (options.preserve_volume) {
-    // Unit normals of the vertices the restoration moves (zero for the others, which then count
-    // as fixed in every part's cubic).
     // A free vertex's triangles separate its part from the background wound either way, so each
     // triangle's area vector is turned to point out of its part (the others' normals are unused).
-    F4Buffer area(nv);
-    F4* a = area.data();
     auto at = [&](uint32_t i) {
       const Vec3d p = smoothed[i];
       return F4{float(p.x), float(p.y), float(p.z), 0.0f};
@@ -174,9 +178,8 @@ void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Prog
         a[x[2]] += n;
       });
     });
-    normal.assign(nv, Vec3d{});
     for_each_vertex(nv, [&](size_t i) {
-      if (topology.free_material[i] != 0) normal[i] = xyz_d(unit_or(a[i], F4{}));
+      a[i] = topology.free_material[i] != 0 ? unit_or(a[i], F4{}) : F4{};
     });
     const std::vector<VolumeCubic> k = material_sums<VolumeCubic>(
         surface.sides.size(), surface.part_count + 1, [&](size_t t, auto&& of) {
@@ -185,7 +188,7 @@ void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Prog
           auto add = [&](uint32_t m, uint32_t p, uint32_t q, uint32_t r) {
             add_triangle_cubic(of(m), to_d(o[p]) - centre, to_d(o[q]) - centre,
                                to_d(o[r]) - centre, smoothed[p], smoothed[q], smoothed[r],
-                               normal[p], normal[q], normal[r]);
+                               normal(p), normal(q), normal(r));
           };
           add(inside, x[0], x[1], x[2]);
           if (outside != 0) add(outside, x[0], x[2], x[1]);  // the other side, turned around
@@ -201,7 +204,7 @@ void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Prog
     const uint32_t m = topology.free_material[i];
     if (m != 0 && restore[m].keep_original) return;  // a speck: its background vertices as they were
     Vec3d p = centre + smoothed[i];
-    if (m != 0 && restore[m].delta != 0) p = p + restore[m].delta * normal[i];
+    if (m != 0 && restore[m].delta != 0) p = p + restore[m].delta * normal(uint32_t(i));
     mesh.positions[i] = to_float(p);
   });
   repair_folds(mesh, original, topology.smooth.role, surface.fold_reach);
