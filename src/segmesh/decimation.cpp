@@ -16,10 +16,7 @@
 #include "segmesh/detail/decimation_passes.hpp"
 #include "segmesh/detail/quadric.hpp"
 #include "segmesh/mesh_distance.hpp"
-#include "segmesh/mesh_measures.hpp"
 #include "segmesh/quality.hpp"
-#include "segmesh/scene.hpp"
-#include "segmesh/smoothing.hpp"
 
 namespace segmesh {
 
@@ -47,6 +44,11 @@ constexpr double kRoundShare = 0.5;
 constexpr double kRoundsBudgetMargin = 1.5;
 constexpr int64_t kRoundsEndShare = 256, kRoundsEndCount = 64;
 constexpr double kSliver = 0.02;  // decimation.hpp says why not 0.05
+// An octave of costs beyond the error bound keeps its order (detail/decimation_order.hpp) when
+// this many times its candidates reach the triangles a budget still wants removed (a collapse
+// removes up to four of the shells' triangles, and its pushes may add candidates to the
+// octave): the budget may stop within it.
+constexpr int64_t kExactOrderShare = 8;
 
 class Collapser {
  public:
@@ -70,11 +72,18 @@ class Collapser {
     parallel_rounds(stats);
     for (uint32_t v = 0; v < m_.pos.size(); ++v)
       if (m_.alive_vertex[v]) push_edges(v, /*higher_only=*/true);
-    while (!queue_.empty()) {
-      const Candidate c = queue_.pop();
-      if (!m_.alive_vertex[c.remove] || !m_.alive_vertex[c.keep] ||
-          version_[c.remove] != c.remove_version || version_[c.keep] != c.keep_version)
-        continue;
+    auto current = [&](const Candidate& c) {
+      return m_.alive_vertex[c.remove] && m_.alive_vertex[c.keep] &&
+             version_[c.remove] == c.remove_version && version_[c.keep] == c.keep_version;
+    };
+    // The order within an octave of costs matters where a budget may stop in it.
+    auto exact = [&](double upper_cost, size_t count) {
+      if (!has_budget_ || (limit_mm_ > 0 && upper_cost <= limit_mm_)) return false;
+      return kExactOrderShare * int64_t(count) >= triangles_over_budget();
+    };
+    Candidate c;
+    while (queue_.pop(c, current, exact)) {
+      if (!current(c)) continue;
       const bool within_error = limit_mm_ > 0 && c.cost <= limit_mm_;
       if (!within_error && !has_budget_) continue;  // never pushed (push_edges)
       if (!within_error && !removes_from_part_over_budget(c.remove, c.keep)) continue;
@@ -180,6 +189,17 @@ class Collapser {
     return over;
   }
 
+  // Whether a triangle around u or v had a radii ratio at or below `worst`.
+  bool had_as_bad(uint32_t u, uint32_t v, const std::vector<uint32_t>& removed,
+                  double worst) const {
+    for (uint32_t t : removed)
+      if (m_.rho(t) <= worst) return true;
+    for (uint32_t x : {u, v})
+      for (uint32_t t : m_.tris[x])
+        if (m_.alive_tri[t] && !(m_.has(t, u) && m_.has(t, v)) && m_.rho(t) <= worst) return true;
+    return false;
+  }
+
   bool allowed(const Candidate& c) const {
     const uint32_t u = c.remove, v = c.keep;
     // Triangle counts: no part below the minimum.
@@ -194,8 +214,7 @@ class Collapser {
     }
     // Geometry: no turned, degenerate or new sliver triangle. Before the link checks: most
     // refusals are new slivers (421 000 of 454 000 on the phantom at 0.2 mm), and these are cheap.
-    double worst_before = 1, worst_after = 1;
-    for (uint32_t t : removed) worst_before = std::min(worst_before, m_.rho(t));
+    double worst_after = 1;
     for (uint32_t x : {u, v}) {
       for (uint32_t t : m_.tris[x]) {
         if (!m_.alive_tri[t] || (m_.has(t, u) && m_.has(t, v))) continue;
@@ -207,11 +226,12 @@ class Collapser {
         const double l0 = norm(n0), l1 = norm(n1);
         if (!(l1 > 1e-12 * (l0 + 1e-30))) return false;
         if (dot(n0, n1) < kDecimationMaxTurnCos * l0 * l1) return false;
-        worst_before = std::min(worst_before, m_.rho(t));
         worst_after = std::min(worst_after, radii_ratio(p[0], p[1], p[2]));
       }
     }
-    if (worst_after < kSliver && worst_after < worst_before) return false;
+    // A new sliver is refused unless one as bad was there before (the neighbourhood measured
+    // only then: most collapses make none).
+    if (worst_after < kSliver && !had_as_bad(u, v, removed, worst_after)) return false;
     // Link conditions: on the whole surface and in every part's shell.
     auto apexes = [&](uint32_t m, std::vector<uint32_t>& out) {
       for (uint32_t t : removed) {
@@ -276,11 +296,16 @@ class Collapser {
   // (the parallel rounds rely on it); the caller counts the removed triangles.
   void collapse(const Candidate& c) {
     const uint32_t u = c.remove, v = c.keep;
+    // The triangles on the edge die; their third corners (and v) hold them in their lists.
+    const ListPool::Lease apexes_lease = m_.pool().take();
+    std::vector<uint32_t>& apexes = *apexes_lease;
     for (uint32_t t : m_.tris[u]) {
       if (!m_.alive_tri[t]) continue;
       uint32_t* i = &m_.s.mesh.indices[3 * size_t(t)];
       if (m_.has(t, v)) {
         m_.alive_tri[t] = 0;
+        for (int k = 0; k < 3; ++k)
+          if (i[k] != u && i[k] != v) apexes.push_back(i[k]);
         continue;
       }
       for (int k = 0; k < 3; ++k)
@@ -295,11 +320,8 @@ class Collapser {
     m_.quadric[v] += m_.quadric[u];
     m_.commit_witnesses();
     m_.junction_vertex[v] |= m_.junction_vertex[u];  // where the shell may touch itself, v now stands
-    // Dead triangles leave the lists of the vertices around.
-    {
-      const ListPool::Lease around = m_.neighbours(v);
-      for (uint32_t w : *around) m_.prune(w);
-    }
+    // Dead triangles leave the lists of the vertices that held them.
+    for (uint32_t w : apexes) m_.prune(w);
     m_.prune(v);
   }
 
@@ -493,6 +515,16 @@ class Collapser {
   int64_t surface_budget_ = 0;           // for the shells' triangles together
   bool has_budget_ = false;
 
+  // The fewest triangles a budget still wants removed: of the shells (the surface's budget) or
+  // of a part over its own; 0 when all are within.
+  int64_t triangles_over_budget() const {
+    int64_t least = std::numeric_limits<int64_t>::max();
+    if (surface_budget_ > 0) least = std::max<int64_t>(0, shell_triangles() - surface_budget_);
+    for (size_t m = 1; m < count_.size(); ++m)
+      if (budget_[m] > 0) least = std::min(least, std::max<int64_t>(0, count_[m] - budget_[m]));
+    return least == std::numeric_limits<int64_t>::max() ? 0 : least;
+  }
+
   int64_t shell_triangles() const { return std::accumulate(count_.begin() + 1, count_.end(), int64_t{0}); }
   CostBuckets queue_;
 };
@@ -500,93 +532,10 @@ class Collapser {
 
 }  // namespace
 
-std::optional<DecimateOptionsProblem> decimate_options_problem(const DecimateOptions& o) {
-  if (!(o.error_mm >= 0) || !std::isfinite(o.error_mm))
-    return DecimateOptionsProblem{"decimate-error", "must be a non-negative number of millimetres"};
-  if (o.max_triangles < 0)
-    return DecimateOptionsProblem{"max-triangles", "must not be negative (0: no budget)"};
-  if (o.max_triangles_per_part < 0)
-    return DecimateOptionsProblem{"max-triangles-per-part", "must not be negative (0: no budget)"};
-  return std::nullopt;
-}
-
-std::vector<int64_t> part_triangle_budgets(const std::vector<double>& areas,
-                                           const DecimateOptions& o) {
-  const double total = std::accumulate(areas.begin(), areas.end(), 0.0);
-  std::vector<int64_t> out(areas.size(), 0);
-  if (o.max_triangles > 0 && total > 0) {
-    // Shares of the scene's budget by area, each at least the minimum a part keeps (rounded
-    // down): the factor f found by bisection so that they add up to the budget at most. Plain
-    // shares left small parts below the minimum, which they keep anyway, and the scene above its
-    // budget (50 844 for 50 000 on a map of 54 parts).
-    const auto shares = [&](double f, std::vector<int64_t>& b) {
-      int64_t sum = 0;
-      for (size_t p = 0; p < areas.size(); ++p) {
-        b[p] = std::max<int64_t>(kMinPartTriangles, int64_t(std::floor(f * areas[p])));
-        sum += b[p];
-      }
-      return sum;
-    };
-    double lo = 0, hi = double(o.max_triangles) / total;
-    if (shares(hi, out) > o.max_triangles) {
-      for (int k = 0; k < 64; ++k) {
-        const double mid = 0.5 * (lo + hi);
-        (shares(mid, out) <= o.max_triangles ? lo : hi) = mid;
-      }
-      shares(lo, out);  // every part at the minimum when even that is over the budget
-    }
-  }
-  for (int64_t& b : out) {
-    if (o.max_triangles_per_part > 0) {
-      b = b > 0 ? std::min(b, o.max_triangles_per_part) : o.max_triangles_per_part;
-    }
-  }
-  return out;
-}
-
 DecimationStats decimate_surface(LabelledSurface& surface, const DecimateOptions& options,
                                  std::span<const int64_t> budgets, int64_t surface_budget) {
   if (!options.active() || surface.sides.empty()) return {};
   return Collapser(surface, options, budgets, surface_budget).run();
-}
-
-DecimationStats decimate_scene(Scene& scene, const DecimateOptions& options) {
-  if (!options.active()) return {};
-  if (scene.surface) {
-    // One surface, one order of collapses: the scene's budget is the surface's, so the error
-    // evens out over the parts instead of each part stopping at its area's share.
-    const std::vector<int64_t> per_part(scene.parts.size(), options.max_triangles_per_part);
-    const DecimationStats stats =
-        decimate_surface(*scene.surface, options, per_part, options.max_triangles);
-    set_part_shells(scene);
-    return stats;
-  }
-  std::vector<double> areas;
-  for (const Part& part : scene.parts) areas.push_back(surface_area(part.mesh));
-  const std::vector<int64_t> budgets = part_triangle_budgets(areas, options);
-  std::vector<DecimationStats> each(scene.parts.size());
-  tbb::parallel_for(size_t{0}, scene.parts.size(), [&](size_t p) {
-    TriMesh& mesh = scene.parts[p].mesh;
-    if (mesh.empty()) return;
-    LabelledSurface one;
-    one.mesh.positions = std::move(mesh.positions);
-    one.mesh.indices = std::move(mesh.indices);
-    one.sides.assign(one.mesh.indices.size() / 3, {1, 0});
-    one.part_count = 1;
-    const int64_t budget[1] = {budgets[p]};
-    each[p] = decimate_surface(one, options, budget);
-    mesh = TriMesh{};
-    mesh.positions = std::move(one.mesh.positions);
-    mesh.indices = std::move(one.mesh.indices);
-    compute_vertex_normals(mesh);
-  });
-  DecimationStats stats;
-  for (const DecimationStats& s : each) {
-    stats.collapses += s.collapses;
-    stats.flips += s.flips;
-    stats.largest_cost_mm = std::max(stats.largest_cost_mm, s.largest_cost_mm);
-  }
-  return stats;
 }
 
 }  // namespace segmesh

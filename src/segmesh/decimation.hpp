@@ -64,8 +64,9 @@
 // as they touch disjoint vertices, triangle lists and witness lists. Triangle counts are reserved
 // when a collapse is taken, so no part falls below the minimum, nor, beyond the error bound,
 // below 1.5 times a budget. The rounds end when one makes fewer collapses than 1/256 of the live
-// vertices; the rest go cheapest first, in cost buckets 4.4 % wide (the last pushed first within
-// one), as all did before the rounds (9.4 s serial for the phantom at 0.2 mm then).
+// vertices; the rest go cheapest first by octaves of cost, each octave swept in vertex order so
+// the checks read memory in the order the surface is stored (an octave a budget may stop in
+// keeps buckets 4.4 % wide; detail/decimation_order.hpp).
 // Deterministic: what a round takes is fixed before its parallel part and the order of the rest
 // by the pushes, so the result does not depend on the thread count.
 // Cost: O(T) bucket operations for T triangles plus the checks, a few hundred bytes per vertex.

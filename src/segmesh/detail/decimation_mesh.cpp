@@ -13,6 +13,8 @@ namespace segmesh {
 
 namespace {
 constexpr double kPlaneWeight = 1.0 / 3;
+// The shift of a triangle removed or replaced: its witnesses need a new search.
+constexpr double kInfinityShift = std::numeric_limits<double>::infinity();
 }  // namespace
 
 DecimationMesh::DecimationMesh(LabelledSurface& surface) : s(surface) {
@@ -24,8 +26,10 @@ DecimationMesh::DecimationMesh(LabelledSurface& surface) : s(surface) {
   for (uint32_t v : s.junction_vertices) junction_vertex[v] = 1;
   quadric.resize(nv);
   original = s.mesh.positions;
-  witness.assign(nv, ~0u);
+  std::vector<char> has_witness(nv, 0);
   witnessed.resize(nt);
+  witness_reach.assign(nt, 0.0);
+  witness_offset.assign(nt, 0.0);
   tris.resize(nv);
   alive_tri.assign(nt, 1);
   alive_vertex.assign(nv, 1);
@@ -41,9 +45,9 @@ DecimationMesh::DecimationMesh(LabelledSurface& surface) : s(surface) {
     }
     for (int c = 0; c < 3; ++c) {
       tris[i[c]].push_back(t);
-      if (witness[i[c]] == ~0u) {  // distance 0
-        witness[i[c]] = t;
-        witnessed[t].push_back(i[c]);
+      if (!has_witness[i[c]]) {  // a corner of its witness: distance 0
+        has_witness[i[c]] = 1;
+        witnessed[t].push_back({i[c], 0.0f});
       }
     }
   }
@@ -97,37 +101,87 @@ double DecimationMesh::rho(uint32_t t) const {
 
 // Witnesses (decimation.hpp). Every original vertex keeps a witness, a live triangle within
 // the bound; witnessed lists them per triangle. A change (collapse, flip, move) that alters
-// `changed` triangles needs a new witness for every original vertex those witness: among the
-// triangles near the change as they will be (fan), else among those one ring further
-// (fill_far adds them to fan). The new witnesses wait in pending for commit_witnesses.
-template <class FillFar>
-bool DecimationMesh::rewitness(std::span<const uint32_t> changed, double limit2,
+// `changed` triangles needs a new witness for every original vertex those witness. Cheapest
+// first: the same triangle when its distance bound plus the triangle's `shift` (how far its one
+// moved corner goes; infinity for a triangle removed or replaced) stays within the limit; else
+// the same triangle as it will be, measured exactly; else the first within the limit among the
+// triangles near the change as they will be (fan), or among those one ring further (fill_far
+// adds them to fan). The new witnesses wait in pending for commit_witnesses.
+template <class Shift, class FillFar>
+bool DecimationMesh::rewitness(std::span<const uint32_t> changed, double limit2, Shift&& shift,
                                FillFar&& fill_far) {
-  std::vector<std::pair<uint32_t, uint32_t>>& pending = scratch().pending;
+  std::vector<PendingWitness>& pending = scratch().pending;
+  const std::vector<FanTriangle>& fan = scratch().fan;
+  std::vector<ChangedTriangle>& changed_out = scratch().pending_changed;
   pending.clear();
-  scratch().pending_changed.assign(changed.begin(), changed.end());
+  changed_out.clear();
+  const double limit = std::sqrt(limit2);
   bool far = false;
-  for (uint32_t t : changed)
-    for (uint32_t o : witnessed[t]) {
+  for (uint32_t t : changed) {
+    const double moved = shift(t);
+    if (moved < kInfinityShift && witness_reach[t] + moved <= limit) {
+      changed_out.push_back({t, true, moved});
+      continue;
+    }
+    changed_out.push_back({t, false, 0.0});
+    const double offset = witness_offset[t];
+    const FanTriangle* own = nullptr;  // t as it will be, found when first needed
+    bool own_looked = false;
+    for (const auto& [o, distance_before] : witnessed[t]) {
+      const double bound = double(distance_before) + offset + moved;
+      if (moved < kInfinityShift && bound <= limit) {
+        pending.push_back({o, t, bound});
+        continue;
+      }
       const Vec3d q = to_double(original[o]);
-      uint32_t found = witness_in_fan(q, limit2);
+      if (!own_looked && moved < kInfinityShift) {
+        for (const FanTriangle& f : fan)
+          if (f.t == t) own = &f;
+        own_looked = true;
+      }
+      if (own) {
+        const Vec3d d = closest_point_on_triangle(q, own->p[0], own->p[1], own->p[2]) - q;
+        const double d2 = dot(d, d);
+        if (d2 <= limit2) {
+          pending.push_back({o, t, std::sqrt(d2)});
+          continue;
+        }
+      }
+      double distance = 0;
+      uint32_t found = witness_in_fan(q, limit2, distance);
       if (found == ~0u && !far) {
         fill_far();
         far = true;
-        found = witness_in_fan(q, limit2);
+        own = nullptr;  // the fan may have moved
+        own_looked = false;
+        found = witness_in_fan(q, limit2, distance);
       }
       if (found == ~0u) return false;
-      pending.push_back({o, found});
+      pending.push_back({o, found, distance});
     }
+  }
   return true;
 }
 
 void DecimationMesh::commit_witnesses() {
   const DecimationScratch& sc = scratch();
-  for (uint32_t t : sc.pending_changed) witnessed[t].clear();
-  for (const auto& [o, t] : sc.pending) {
-    witness[o] = t;
-    witnessed[t].push_back(o);
+  for (const ChangedTriangle& c : sc.pending_changed) {
+    if (c.whole) {
+      witness_offset[c.t] += c.shift;
+      witness_reach[c.t] += c.shift;
+    } else {
+      witnessed[c.t].clear();
+      witness_offset[c.t] = 0;
+      witness_reach[c.t] = 0;
+    }
+  }
+  // Entries relative to the offset, rounded up to float: their bounds stay upper bounds.
+  for (const PendingWitness& w : sc.pending) {
+    const double relative = w.distance - witness_offset[w.t];
+    float d = float(relative);
+    if (double(d) < relative) d = std::nextafter(d, std::numeric_limits<float>::infinity());
+    witnessed[w.t].push_back({w.original, d});
+    witness_reach[w.t] = std::max(witness_reach[w.t], w.distance);
   }
 }
 
@@ -160,7 +214,15 @@ bool DecimationMesh::collapse_keeps_witnesses(uint32_t u, uint32_t v, Vec3d posi
   scratch().fan.clear();
   add_fan(v, corner, collapse, u, v);
   if (collapse) add_fan(u, corner, collapse, u, v);
-  return rewitness(*changed, limit2, [&] {
+  // A triangle around v keeps its corners but v's, which goes to `position`; around u the same
+  // for u's; those on the edge go.
+  const double v_moves = norm(position - pos[v]), u_moves = norm(position - pos[u]);
+  auto shift = [&](uint32_t t) {
+    const bool with_u = collapse && has(t, u), with_v = has(t, v);
+    if (with_u && with_v) return kInfinityShift;
+    return with_v ? v_moves : u_moves;
+  };
+  return rewitness(*changed, limit2, shift, [&] {
     if (!far_ring) return;
     for (size_t k = 0; k < count; ++k) {
       const ListPool::Lease ring = neighbours(around[k]);
@@ -179,7 +241,8 @@ bool DecimationMesh::flip_keeps_witnesses(uint32_t t1, uint32_t t2, const std::a
   add_to_fan(t1, pos[new1[0]], pos[new1[1]], pos[new1[2]]);
   add_to_fan(t2, pos[new2[0]], pos[new2[1]], pos[new2[2]]);
   const uint32_t changed[2] = {t1, t2};
-  return rewitness(changed, limit2, [&] {
+  auto replaced = [](uint32_t) { return kInfinityShift; };
+  return rewitness(changed, limit2, replaced, [&] {
     for (uint32_t x : corners) add_fan(x, corner, false, 0, 0, t1, t2);
   });
 }
@@ -194,17 +257,24 @@ void DecimationMesh::add_to_fan(uint32_t t, const Vec3d& a, const Vec3d& b, cons
 // The first triangle of fan within sqrt(limit2) of q, or ~0u. Most triangles of a fan are
 // decided without the exact test: a box (made once per fan) farther than the limit rejects, a
 // corner within it accepts (the triangle's closest point is no farther than its corners).
-uint32_t DecimationMesh::witness_in_fan(const Vec3d& q, double limit2) const {
+uint32_t DecimationMesh::witness_in_fan(const Vec3d& q, double limit2, double& distance) const {
   const double r = std::sqrt(limit2);
   for (const FanTriangle& f : scratch().fan) {
     if (q.x < f.lo.x - r || q.x > f.hi.x + r || q.y < f.lo.y - r || q.y > f.hi.y + r ||
         q.z < f.lo.z - r || q.z > f.hi.z + r)
       continue;
     const std::array<Vec3d, 3>& p = f.p;
-    if (std::min({dot(p[0] - q, p[0] - q), dot(p[1] - q, p[1] - q), dot(p[2] - q, p[2] - q)}) <= limit2)
+    const double corner2 =
+        std::min({dot(p[0] - q, p[0] - q), dot(p[1] - q, p[1] - q), dot(p[2] - q, p[2] - q)});
+    if (corner2 <= limit2) {
+      distance = std::sqrt(corner2);
       return f.t;
+    }
     const Vec3d d = closest_point_on_triangle(q, p[0], p[1], p[2]) - q;
-    if (dot(d, d) <= limit2) return f.t;
+    if (dot(d, d) <= limit2) {
+      distance = std::sqrt(dot(d, d));
+      return f.t;
+    }
   }
   return ~0u;
 }

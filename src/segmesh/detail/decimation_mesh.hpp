@@ -75,14 +75,36 @@ struct FanTriangle {
   Vec3d lo, hi;
 };
 
+// An original vertex a triangle witnesses, with an upper bound of its distance to the triangle
+// (rounded up to float): kept with the triangle, so most checks read nothing else.
+struct Witnessed {
+  uint32_t original;
+  float distance;
+};
+
+// A new witness found by a check: the original vertex, its triangle and an upper bound of its
+// distance to that triangle as it will be.
+struct PendingWitness {
+  uint32_t original, t;
+  double distance;
+};
+
+// A triangle a check changes: `whole` when all its witnesses stay within the bound by its reach
+// plus `shift` (then its list is left as it is), else its list is made again from `pending`.
+struct ChangedTriangle {
+  uint32_t t;
+  bool whole;
+  double shift;
+};
+
 // What the checks build and throw away, one per thread (the parallel rounds of decimation.cpp
 // check collapses on every core): id lists, a check's candidate witnesses (`fan`), and its new
-// witnesses (original vertex, triangle) and changed triangles for commit_witnesses.
+// witnesses and changed triangles for commit_witnesses.
 struct DecimationScratch {
   ListPool pool;
   std::vector<FanTriangle> fan;
-  std::vector<std::pair<uint32_t, uint32_t>> pending;
-  std::vector<uint32_t> pending_changed;
+  std::vector<PendingWitness> pending;
+  std::vector<ChangedTriangle> pending_changed;
 };
 
 struct DecimationMesh {
@@ -97,10 +119,15 @@ struct DecimationMesh {
   std::vector<Quadric> quadric;
   std::vector<std::vector<uint32_t>> tris;  // per vertex; may hold dead triangles until pruned
   std::vector<char> alive_tri, alive_vertex;
-  // The original vertices: positions, witnesses, and per triangle those it witnesses.
+  // The original vertices' positions, and per triangle those it witnesses with an upper bound
+  // of their distance to it: the entry's distance plus the triangle's witness_offset. A change
+  // that moves one corner of a triangle by d moves every point of it by at most d, so a witness
+  // whose bound plus d stays within the limit needs no projection. witness_reach bounds them all
+  // (0 for none): when the reach plus d is within the limit, the change adds d to the offset
+  // and the reach and reads no list, the common case.
   std::vector<Vec3f> original;
-  std::vector<uint32_t> witness;
-  std::vector<std::vector<uint32_t>> witnessed;
+  std::vector<std::vector<Witnessed>> witnessed;
+  std::vector<double> witness_reach, witness_offset;
   // This thread's scratch.
   static DecimationScratch& scratch() {
     thread_local DecimationScratch here;
@@ -151,13 +178,14 @@ struct DecimationMesh {
   void compact();
 
  private:
-  template <class FillFar>
-  bool rewitness(std::span<const uint32_t> changed, double limit2, FillFar&& fill_far);
+  template <class Shift, class FillFar>
+  bool rewitness(std::span<const uint32_t> changed, double limit2, Shift&& shift,
+                 FillFar&& fill_far);
   template <class Corner>
   void add_fan(uint32_t y, Corner&& corner, bool collapse, uint32_t u, uint32_t v,
                uint32_t skip1 = ~0u, uint32_t skip2 = ~0u);
   void add_to_fan(uint32_t t, const Vec3d& a, const Vec3d& b, const Vec3d& c);
-  uint32_t witness_in_fan(const Vec3d& q, double limit2) const;
+  uint32_t witness_in_fan(const Vec3d& q, double limit2, double& distance) const;
 };
 
 }  // namespace segmesh
