@@ -25,7 +25,6 @@ DecimationMesh::DecimationMesh(LabelledSurface& surface) : s(surface) {
   junction_vertex.assign(nv, 0);
   for (uint32_t v : s.junction_vertices) junction_vertex[v] = 1;
   quadric.resize(nv);
-  original = s.mesh.positions;
   std::vector<char> has_witness(nv, 0);
   witnessed.resize(nt);
   witness_reach.assign(nt, 0.0);
@@ -47,7 +46,7 @@ DecimationMesh::DecimationMesh(LabelledSurface& surface) : s(surface) {
       tris[i[c]].push_back(t);
       if (!has_witness[i[c]]) {  // a corner of its witness: distance 0
         has_witness[i[c]] = 1;
-        witnessed[t].push_back({i[c], 0.0f});
+        witnessed[t].push_back({s.mesh.positions[i[c]], 0.0f});
       }
     }
   }
@@ -127,13 +126,13 @@ bool DecimationMesh::rewitness(std::span<const uint32_t> changed, double limit2,
     const double offset = witness_offset[t];
     const FanTriangle* own = nullptr;  // t as it will be, found when first needed
     bool own_looked = false;
-    for (const auto& [o, distance_before] : witnessed[t]) {
+    for (const auto& [original, distance_before] : witnessed[t]) {
       const double bound = double(distance_before) + offset + moved;
       if (moved < kInfinityShift && bound <= limit) {
-        pending.push_back({o, t, bound});
+        pending.push_back({original, t, bound});
         continue;
       }
-      const Vec3d q = to_double(original[o]);
+      const Vec3d q = to_double(original);
       if (!own_looked && moved < kInfinityShift) {
         for (const FanTriangle& f : fan)
           if (f.t == t) own = &f;
@@ -143,7 +142,7 @@ bool DecimationMesh::rewitness(std::span<const uint32_t> changed, double limit2,
         const Vec3d d = closest_point_on_triangle(q, own->p[0], own->p[1], own->p[2]) - q;
         const double d2 = dot(d, d);
         if (d2 <= limit2) {
-          pending.push_back({o, t, std::sqrt(d2)});
+          pending.push_back({original, t, std::sqrt(d2)});
           continue;
         }
       }
@@ -157,7 +156,7 @@ bool DecimationMesh::rewitness(std::span<const uint32_t> changed, double limit2,
         found = witness_in_fan(q, limit2, distance);
       }
       if (found == ~0u) return false;
-      pending.push_back({o, found, distance});
+      pending.push_back({original, found, distance});
     }
   }
   return true;
@@ -180,7 +179,7 @@ void DecimationMesh::commit_witnesses() {
     const double relative = w.distance - witness_offset[w.t];
     float d = float(relative);
     if (double(d) < relative) d = std::nextafter(d, std::numeric_limits<float>::infinity());
-    witnessed[w.t].push_back({w.original, d});
+    witnessed[w.t].push_back({w.position, d});
     witness_reach[w.t] = std::max(witness_reach[w.t], w.distance);
   }
 }

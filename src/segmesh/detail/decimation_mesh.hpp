@@ -75,17 +75,18 @@ struct FanTriangle {
   Vec3d lo, hi;
 };
 
-// An original vertex a triangle witnesses, with an upper bound of its distance to the triangle
-// (rounded up to float): kept with the triangle, so most checks read nothing else.
+// An original vertex a triangle witnesses: its position and an upper bound of its distance to
+// the triangle (rounded up to float), kept with the triangle, so a check reads one list.
 struct Witnessed {
-  uint32_t original;
+  Vec3f position;
   float distance;
 };
 
-// A new witness found by a check: the original vertex, its triangle and an upper bound of its
-// distance to that triangle as it will be.
+// A new witness found by a check: the original vertex's position, its triangle and an upper
+// bound of its distance to that triangle as it will be.
 struct PendingWitness {
-  uint32_t original, t;
+  Vec3f position;
+  uint32_t t;
   double distance;
 };
 
@@ -119,13 +120,12 @@ struct DecimationMesh {
   std::vector<Quadric> quadric;
   std::vector<std::vector<uint32_t>> tris;  // per vertex; may hold dead triangles until pruned
   std::vector<char> alive_tri, alive_vertex;
-  // The original vertices' positions, and per triangle those it witnesses with an upper bound
-  // of their distance to it: the entry's distance plus the triangle's witness_offset. A change
+  // Per triangle the original vertices it witnesses, with an upper bound of their distance to
+  // it: the entry's distance plus the triangle's witness_offset. A change
   // that moves one corner of a triangle by d moves every point of it by at most d, so a witness
   // whose bound plus d stays within the limit needs no projection. witness_reach bounds them all
   // (0 for none): when the reach plus d is within the limit, the change adds d to the offset
   // and the reach and reads no list, the common case.
-  std::vector<Vec3f> original;
   std::vector<std::vector<Witnessed>> witnessed;
   std::vector<double> witness_reach, witness_offset;
   // This thread's scratch.
