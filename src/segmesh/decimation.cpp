@@ -49,6 +49,8 @@ constexpr double kSliver = 0.02;  // decimation.hpp says why not 0.05
 // removes up to four of the shells' triangles, and its pushes may add candidates to the
 // octave): the budget may stop within it.
 constexpr int64_t kExactOrderShare = 8;
+// Surfaces of fewer vertices keep buckets 4.4 % wide throughout: their data stays in cache.
+constexpr size_t kSweepMinVertices = 65536;
 
 class Collapser {
  public:
@@ -76,8 +78,11 @@ class Collapser {
       return m_.alive_vertex[c.remove] && m_.alive_vertex[c.keep] &&
              version_[c.remove] == c.remove_version && version_[c.keep] == c.keep_version;
     };
-    // The order within an octave of costs matters where a budget may stop in it.
+    // The order within an octave of costs is kept where a budget may stop in it, and on a
+    // surface small enough for the cache, where sweeps gain nothing.
+    const bool small = m_.pos.size() < kSweepMinVertices;
     auto exact = [&](double upper_cost, size_t count) {
+      if (small) return true;
       if (!has_budget_ || (limit_mm_ > 0 && upper_cost <= limit_mm_)) return false;
       return kExactOrderShare * int64_t(count) >= triangles_over_budget();
     };

@@ -66,7 +66,8 @@
 // below 1.5 times a budget. The rounds end when one makes fewer collapses than 1/256 of the live
 // vertices; the rest go cheapest first by octaves of cost, each octave swept in vertex order so
 // the checks read memory in the order the surface is stored (an octave a budget may stop in
-// keeps buckets 4.4 % wide; detail/decimation_order.hpp).
+// keeps buckets 4.4 % wide, as does a surface small enough for the cache throughout;
+// detail/decimation_order.hpp).
 // Deterministic: what a round takes is fixed before its parallel part and the order of the rest
 // by the pushes, so the result does not depend on the thread count.
 // Cost: O(T) bucket operations for T triangles plus the checks, a few hundred bytes per vertex.
