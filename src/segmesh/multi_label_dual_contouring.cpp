@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstring>
 #include <numeric>
 #include <vector>
@@ -30,15 +31,17 @@ constexpr int16_t kJunction = -2;
 constexpr uint16_t kOwnedEdges = 1u << 3 | 1u << 7 | 1u << 11;
 
 // The material of every grid point of the parts' common box (with its one-point margin), in the
-// narrowest of 1, 2 or 4 bytes that holds the part count.
+// narrowest of 1, 2 or 4 bytes that holds the part count, padded by one more point of background
+// on every side, so that a cell's 4 x 4 x 4 neighbourhood is always inside it.
 class MaterialGrid {
  public:
   MaterialGrid(const MaterialRows& rows, size_t parts)
       : dims_(rows.dims()),
+        padded_{dims_[0] + 2, dims_[1] + 2, dims_[2] + 2},
         width_(parts < 0xff     ? 1
                : parts < 0xffff ? 2
                                 : 4) {
-    resize_zeroed(bytes_, static_cast<size_t>(dims_[0] * dims_[1] * dims_[2]) * width_);
+    resize_zeroed(bytes_, static_cast<size_t>(padded_[0] * padded_[1] * padded_[2]) * width_);
     tbb::parallel_for(int64_t{0}, dims_[2], [&](int64_t k) {
       for (int64_t j = 0; j < dims_[1]; ++j)
         for (const MaterialRun& r : rows.row(j, k))
@@ -46,24 +49,30 @@ class MaterialGrid {
     });
   }
   const std::array<int64_t, 3>& dims() const { return dims_; }
-  // The materials of points (i .. i + 3, j, k); outside the box the background.
-  void row4(int64_t i, int64_t j, int64_t k, uint32_t* m) const {
-    if (j < 0 || k < 0 || j >= dims_[1] || k >= dims_[2]) {
-      m[0] = m[1] = m[2] = m[3] = 0;
-      return;
-    }
-    if (i >= 0 && i + 4 <= dims_[0] && width_ == 1) {
-      const uint8_t* b = bytes_.data() + index(i, j, k);
-      m[0] = b[0], m[1] = b[1], m[2] = b[2], m[3] = b[3];
-      return;
-    }
-    for (int x = 0; x < 4; ++x) m[x] = at(i + x, j, k);
-  }
-  // Outside the box: the background.
-  uint32_t at(int64_t i, int64_t j, int64_t k) const {
-    if (i < 0 || j < 0 || k < 0 || i >= dims_[0] || j >= dims_[1] || k >= dims_[2]) return 0;
+  // Bit x set where point (i + x, j, k) (x = 0 .. 3) holds material w; i, j and k from -1 to
+  // dims - 4, dims - 1 and dims - 1 (the padding is the background).
+  unsigned equal4(int64_t i, int64_t j, int64_t k, uint32_t w) const {
     const size_t x = index(i, j, k);
-    if (width_ == 1) return bytes_[x];
+    if (width_ == 1) {
+      // The four bytes at once: a byte of v is 0 where the material is w, and t gets its top bit
+      // set exactly there (no carry crosses a byte), gathered into bits 0 .. 3 by the product
+      // (its partial products never overlap).
+      uint32_t v;
+      std::memcpy(&v, bytes_.data() + x, 4);
+      v ^= w * 0x01010101u;
+      const uint32_t t = ~(((v & 0x7f7f7f7fu) + 0x7f7f7f7fu) | v | 0x7f7f7f7fu);
+      return unsigned((uint64_t{t >> 7} * 0x204081u) >> 21) & 0xfu;
+    }
+    unsigned bits = 0;
+    for (int n = 0; n < 4; ++n) bits |= unsigned(get(x + size_t(n)) == w) << n;
+    return bits;
+  }
+
+ private:
+  size_t index(int64_t i, int64_t j, int64_t k) const {
+    return static_cast<size_t>(((k + 1) * padded_[1] + (j + 1)) * padded_[0] + (i + 1));
+  }
+  uint32_t get(size_t x) const {
     if (width_ == 2) {
       uint16_t m;
       std::memcpy(&m, bytes_.data() + 2 * x, 2);
@@ -72,11 +81,6 @@ class MaterialGrid {
     uint32_t m;
     std::memcpy(&m, bytes_.data() + 4 * x, 4);
     return m;
-  }
-
- private:
-  size_t index(int64_t i, int64_t j, int64_t k) const {
-    return static_cast<size_t>((k * dims_[1] + j) * dims_[0] + i);
   }
   void set(size_t x, uint32_t m) {
     if (width_ == 1) {
@@ -90,8 +94,22 @@ class MaterialGrid {
   }
 
   std::array<int64_t, 3> dims_;
+  std::array<int64_t, 3> padded_;
   size_t width_;
   std::vector<uint8_t> bytes_;
+};
+
+// Bits 0 .. 3 of `bits` moved to bits 0, 16, 32 and 48 (a key's x = 0 .. 3 of one row): the four
+// partial products of the multiplication never overlap.
+inline uint64_t spread_row(unsigned bits) {
+  return (uint64_t{bits} * 0x0000200040008001ULL) & 0x0001000100010001ULL;
+}
+
+// One thread's solved neighbourhoods: each key's sheet offsets (index space, from the cell's
+// first corner), offsets[first .. first + pieces), first from the key table.
+struct SolvedKeys {
+  dc::KeyTable<uint32_t> first;
+  std::vector<Vec3d> offsets;
 };
 
 // A cell whose corners are not all one material.
@@ -169,6 +187,11 @@ struct Slab {
   std::vector<CutCell> cells;
   std::vector<uint32_t> row_first;  // cells of row j: [row_first[j], row_first[j + 1])
   uint32_t vertices = 0;
+  uint32_t junction_vertices = 0;  // the junction cells' vertices among them
+  // Per row: the cut edges its cells own, and whether it holds a binary cell of several sheets
+  // (a rare cell: only next to one can a polygon be more than a quad).
+  std::vector<uint32_t> row_owned;
+  std::vector<uint8_t> row_rare;
   uint64_t triangles = 0, extra = 0;  // the polygons' triangles and centroid vertices it emits
 };
 
@@ -196,18 +219,28 @@ class Extractor {
       scan_slab(k);
     });
     progress_.update(0.3);
-    // Vertex ids: the slabs' cells in order.
-    uint32_t vertices = 0;
-    for (Slab& s : slabs_) {
-      for (CutCell& c : s.cells) c.first_vertex += vertices;
-      vertices += s.vertices;
+    // Vertex ids: the slabs' cells in order; the junction vertices likewise.
+    std::vector<uint32_t> first_vertex(slabs_.size()), first_junction(slabs_.size());
+    uint32_t vertices = 0, junctions = 0;
+    for (size_t k = 0; k < slabs_.size(); ++k) {
+      first_vertex[k] = vertices;
+      first_junction[k] = junctions;
+      vertices += slabs_[k].vertices;
+      junctions += slabs_[k].junction_vertices;
     }
     out.mesh.positions.resize(vertices);
+    out.junction_vertices.resize(junctions);
     tbb::parallel_for(int64_t{0}, n_[2] - 1, [&](int64_t k) {
-      for (size_t r = 0; r + 1 < slabs_[size_t(k)].row_first.size(); ++r)
-        for (uint32_t c = slabs_[size_t(k)].row_first[r]; c < slabs_[size_t(k)].row_first[r + 1];
-             ++c)
-          place_vertices(int64_t(r), k, slabs_[size_t(k)].cells[c], out.mesh.positions.data());
+      Slab& slab = slabs_[size_t(k)];
+      uint32_t* junction = out.junction_vertices.data() + first_junction[size_t(k)];
+      for (size_t r = 0; r + 1 < slab.row_first.size(); ++r)
+        for (uint32_t c = slab.row_first[r]; c < slab.row_first[r + 1]; ++c) {
+          CutCell& cell = slab.cells[c];
+          cell.first_vertex += first_vertex[size_t(k)];
+          place_vertices(int64_t(r), k, cell, out.mesh.positions.data());
+          if (cell.cs == kJunction)
+            for (uint32_t v = 0; v < cell.vertices; ++v) *junction++ = cell.first_vertex + v;
+        }
     });
     progress_.update(0.6);
     tbb::parallel_for(int64_t{0}, n_[2] - 1, [&](int64_t k) {
@@ -230,11 +263,6 @@ class Extractor {
       throw_if_cancelled(progress_);
       write_polygons(k, first_triangle[size_t(k)], uint32_t(first_extra[size_t(k)]), out);
     });
-    for (const Slab& s : slabs_)
-      for (const CutCell& c : s.cells)
-        if (c.cs == kJunction)
-          for (uint32_t v = 0; v < c.vertices; ++v)
-            out.junction_vertices.push_back(c.first_vertex + v);
     progress_.update(1.0);
     return out;
   }
@@ -243,16 +271,23 @@ class Extractor {
   void scan_slab(int64_t k) {
     Slab& slab = slabs_[size_t(k)];
     slab.row_first.assign(size_t(n_[1]), 0);
+    slab.row_owned.assign(size_t(n_[1]), 0);
+    slab.row_rare.assign(size_t(n_[1]), 0);
     for (int64_t j = 0; j + 1 < n_[1]; ++j) {
       slab.row_first[size_t(j)] = uint32_t(slab.cells.size());
+      uint32_t& owned = slab.row_owned[size_t(j)];
+      uint8_t& rare = slab.row_rare[size_t(j)];
       rows_.cells(j, k, [&](int64_t i, const uint32_t* m) {
         CutCell cell;
         if (!classify(m, joined_by_winner_, table_, cell)) return;
+        owned += uint32_t(std::popcount(unsigned(cell.cut() & kOwnedEdges)));
+        rare |= uint8_t(cell.cs != kJunction && cell.vertices > 1);
         // MaterialRows::cells numbers corner (x, y, z) as x + 2 y + 4 z.
         cell.owned_ends = {m[7], m[6], m[5], m[3]};
         cell.i = int32_t(i);
         cell.first_vertex = slab.vertices;
         slab.vertices += cell.vertices;
+        if (cell.cs == kJunction) slab.junction_vertices += cell.vertices;
         slab.cells.push_back(cell);
       });
     }
@@ -260,17 +295,17 @@ class Extractor {
   }
 
   // The 4 x 4 x 4 neighbourhood of cell (i, j, k) in material w's indicator, as single-label Dual
-  // Contouring keys it (dc_neighbourhood_keys.hpp: the cell's corners at 1 and 2).
+  // Contouring keys it (dc_neighbourhood_keys.hpp: the cell's corners at 1 and 2), only the points
+  // the central differences read (key_mask): the rest cannot change the solve. The four rows with
+  // both y and z outside the cell hold none of them.
   uint64_t indicator_key(uint32_t w, int64_t i, int64_t j, int64_t k) const {
     uint64_t key = 0;
     for (int z = 0; z < 4; ++z)
       for (int y = 0; y < 4; ++y) {
-        uint32_t m[4];
-        materials_.row4(i - 1, j - 1 + y, k - 1 + z, m);
-        for (int x = 0; x < 4; ++x)
-          if (m[x] == w) key |= dc::key_bit(x, y, z);
+        if ((y == 0 || y == 3) && (z == 0 || z == 3)) continue;
+        key |= spread_row(materials_.equal4(i - 1, j - 1 + y, k - 1 + z, w)) << (y + 4 * z);
       }
-    return key;
+    return key & key_mask_;
   }
 
   void place_vertices(int64_t j, int64_t k, const CutCell& cell, Vec3f* positions) const {
@@ -282,12 +317,15 @@ class Extractor {
       // The winner's sheets as single-label Dual Contouring places them.
       // Solved once per neighbourhood and thread (the key decides the case, hence the solve).
       const uint64_t key = indicator_key(cell.winner, i, j, k);  // never 0: the cell is cut
-      auto& solved = solved_.local();
-      const dc::CellVertices& cv = solved[solved.get(key, [&](dc::CellVertices& v) {
-        v = dc::solve_key(solve_, key, cell.cs, nullptr);
+      SolvedKeys& solved = solved_.local();
+      const uint32_t first = solved.first[solved.first.get(key, [&](uint32_t& f) {
+        const dc::CellVertices v = dc::solve_key(solve_, key, cell.cs, nullptr);
+        f = uint32_t(solved.offsets.size());
+        solved.offsets.insert(solved.offsets.end(), v.offset.begin(),
+                              v.offset.begin() + cell.vertices);
       })];
-      for (int p = 0; p < cell.vertices; ++p)
-        emit(cell.first_vertex + uint32_t(p), cv.offset[size_t(p)]);
+      const Vec3d* offset = solved.offsets.data() + first;
+      for (int p = 0; p < cell.vertices; ++p) emit(cell.first_vertex + uint32_t(p), offset[p]);
       return;
     }
     // A junction cell: each piece at the mass point of its cut edges' midpoints.
@@ -308,10 +346,10 @@ class Extractor {
     }
   }
 
-  // Calls visit(polygon, inside, outside) for each cut edge slab k's cells own (their edges 3, 7
-  // and 11: the cell is the edge's quadrant (-1, -1)).
+  // Calls visit(polygon, inside, outside) for each cut edge the cells of row j of slab k own
+  // (their edges 3, 7 and 11: the cell is the edge's quadrant (-1, -1)).
   template <class Visit>
-  void polygons(int64_t k, Visit&& visit) const {
+  void row_polygons(int64_t j, int64_t k, Visit&& visit) const {
     const Slab& s = slabs_[size_t(k)];
     const bool mirrored = grid_.mirrored();
     // The cells of rows j and j + 1 of slabs k and k + 1, which hold every polygon's four cells;
@@ -331,71 +369,91 @@ class Extractor {
       c.end = slab.cells.data() + slab.row_first[size_t(jj) + 1];
       return c;
     };
-    for (size_t r = 0; r + 1 < s.row_first.size(); ++r) {
-      const int64_t j = int64_t(r);
-      std::array<Cursor, 4> rows{row_cells(j, k), row_cells(j + 1, k), row_cells(j, k + 1),
-                                 row_cells(j + 1, k + 1)};
-      for (uint32_t ci = s.row_first[r]; ci < s.row_first[r + 1]; ++ci) {
-        const CutCell& cell = s.cells[ci];
-        if (!(cell.cut() & kOwnedEdges)) continue;
-        for (Cursor& c : rows)
-          while (c.at != c.end && c.at->i < cell.i) ++c.at;
-        for (int axis = 0; axis < 3; ++axis) {
-          const int e = 4 * axis + 3;
-          if (!(cell.cut() >> e & 1)) continue;
-          const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-          // The edge from cell corner (1, 1, 1) minus the axis to corner (1, 1, 1).
-          const uint32_t m0 = cell.owned_ends[size_t(1 + axis)];
-          const uint32_t m1 = cell.owned_ends[0];
-          const uint32_t inside = winning_material(m0, m1);
-          std::array<dc::CellRef, 4> refs;
-          for (int q = 0; q < 4; ++q) {
-            // The quadrant's cell, offset from this one by 0 or 1 along u and v.
-            std::array<int, 3> offset{0, 0, 0};
-            offset[size_t(u)] = 1 + dc::kQuadrantDu[q];
-            offset[size_t(v)] = 1 + dc::kQuadrantDv[q];
-            const CutCell* other = rows[size_t(offset[1] + 2 * offset[2])].at;
-            while (other->i < cell.i + offset[0]) ++other;
-            if (other->cs == kJunction) {
-              const int le = dc::local_edge(axis, -dc::kQuadrantDu[q], -dc::kQuadrantDv[q]);
-              refs[size_t(q)] = {dc::kOneSheet,
-                                 other->first_vertex + uint32_t(other->piece[size_t(le)])};
-            } else {
-              refs[size_t(q)] = {other->vertices == 1 ? dc::kOneSheet : int(other->cs),
-                                 other->first_vertex};
-            }
+    const size_t r = size_t(j);
+    std::array<Cursor, 4> rows{row_cells(j, k), row_cells(j + 1, k), row_cells(j, k + 1),
+                               row_cells(j + 1, k + 1)};
+    for (uint32_t ci = s.row_first[r]; ci < s.row_first[r + 1]; ++ci) {
+      const CutCell& cell = s.cells[ci];
+      if (!(cell.cut() & kOwnedEdges)) continue;
+      for (Cursor& c : rows)
+        while (c.at != c.end && c.at->i < cell.i) ++c.at;
+      for (int axis = 0; axis < 3; ++axis) {
+        const int e = 4 * axis + 3;
+        if (!(cell.cut() >> e & 1)) continue;
+        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        // The edge from cell corner (1, 1, 1) minus the axis to corner (1, 1, 1).
+        const uint32_t m0 = cell.owned_ends[size_t(1 + axis)];
+        const uint32_t m1 = cell.owned_ends[0];
+        const uint32_t inside = winning_material(m0, m1);
+        std::array<dc::CellRef, 4> refs;
+        for (int q = 0; q < 4; ++q) {
+          // The quadrant's cell, offset from this one by 0 or 1 along u and v.
+          std::array<int, 3> offset{0, 0, 0};
+          offset[size_t(u)] = 1 + dc::kQuadrantDu[q];
+          offset[size_t(v)] = 1 + dc::kQuadrantDv[q];
+          const CutCell* other = rows[size_t(offset[1] + 2 * offset[2])].at;
+          while (other->i < cell.i + offset[0]) ++other;
+          if (other->cs == kJunction) {
+            const int le = dc::local_edge(axis, -dc::kQuadrantDu[q], -dc::kQuadrantDv[q]);
+            refs[size_t(q)] = {dc::kOneSheet,
+                               other->first_vertex + uint32_t(other->piece[size_t(le)])};
+          } else {
+            refs[size_t(q)] = {other->vertices == 1 ? dc::kOneSheet : int(other->cs),
+                               other->first_vertex};
           }
-          visit(dc::polygon(table_, axis, refs, inside == m0, mirrored), inside,
-                inside == m0 ? m1 : m0);
         }
+        visit(dc::polygon(table_, axis, refs, inside == m0, mirrored), inside,
+              inside == m0 ? m1 : m0);
       }
     }
   }
 
+  // Whether a polygon the cells of row j of slab k own can be more than a quad: a rare cell in
+  // one of the four rows that hold their cells.
+  bool near_rare(int64_t j, int64_t k) const {
+    for (int n = 0; n < 4; ++n) {
+      const size_t kk = size_t(k + (n >> 1)), jj = size_t(j + (n & 1));
+      if (kk < slabs_.size() && jj < slabs_[kk].row_rare.size() && slabs_[kk].row_rare[jj])
+        return true;
+    }
+    return false;
+  }
+
   void count_polygons(int64_t k) {
     Slab& s = slabs_[size_t(k)];
-    polygons(k, [&](const dc::Polygon& p, uint32_t, uint32_t) {
-      const auto [t, x] = dc::polygon_cost(p);
-      s.triangles += t;
-      s.extra += x;
-    });
+    for (int64_t j = 0; j + 1 < int64_t(s.row_first.size()); ++j) {
+      if (s.row_owned[size_t(j)] == 0) continue;
+      if (!near_rare(j, k)) {  // only quads: two triangles each
+        s.triangles += 2 * uint64_t(s.row_owned[size_t(j)]);
+        continue;
+      }
+      row_polygons(j, k, [&](const dc::Polygon& p, uint32_t, uint32_t) {
+        const auto [t, x] = dc::polygon_cost(p);
+        s.triangles += t;
+        s.extra += x;
+      });
+    }
   }
 
   void write_polygons(int64_t k, uint64_t first_triangle, uint32_t extra, LabelledSurface& out) {
     uint32_t* idx = out.mesh.indices.data() + 3 * first_triangle;
     std::array<uint32_t, 2>* sides = out.sides.data() + first_triangle;
     std::vector<dc::PendingQuad> quads;
+    quads.reserve(size_t(slabs_[size_t(k)].triangles / 2));
     std::vector<std::array<int, 3>> scratch;
-    polygons(k, [&](const dc::Polygon& p, uint32_t inside, uint32_t outside) {
-      const uint64_t t = dc::polygon_cost(p).first;
-      for (uint64_t q = 0; q < t; ++q) *sides++ = {inside, outside};
-      if (p.n == 4) {
-        quads.push_back({idx, {p.vertex[0], p.vertex[1], p.vertex[2], p.vertex[3]}});
-        idx += 6;
-        return;
-      }
-      idx = dc::write_polygon(p, out.mesh, extra, idx, scratch);
-    });
+    for (int64_t j = 0; j + 1 < int64_t(slabs_[size_t(k)].row_first.size()); ++j) {
+      if (slabs_[size_t(k)].row_owned[size_t(j)] == 0) continue;
+      row_polygons(j, k, [&](const dc::Polygon& p, uint32_t inside, uint32_t outside) {
+        const uint64_t t = dc::polygon_cost(p).first;
+        for (uint64_t q = 0; q < t; ++q) *sides++ = {inside, outside};
+        if (p.n == 4) {
+          quads.push_back({idx, {p.vertex[0], p.vertex[1], p.vertex[2], p.vertex[3]}});
+          idx += 6;
+          return;
+        }
+        idx = dc::write_polygon(p, out.mesh, extra, idx, scratch);
+      });
+    }
     dc::split_quads(out.mesh.positions.data(), quads.data(), quads.size());
   }
 
@@ -409,7 +467,8 @@ class Extractor {
   Progress& progress_;
   const std::array<int64_t, 3> n_;
   std::vector<Slab> slabs_;
-  mutable tbb::enumerable_thread_specific<dc::KeyTable<dc::CellVertices>> solved_;
+  const uint64_t key_mask_ = dc::key_mask(NormalMethod::central);
+  mutable tbb::enumerable_thread_specific<SolvedKeys> solved_;
 };
 
 }  // namespace
