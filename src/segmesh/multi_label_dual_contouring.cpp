@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <cstring>
 #include <numeric>
 #include <vector>
 
@@ -18,7 +17,6 @@
 #include "segmesh/detail/marching_cubes_table.hpp"
 #include "segmesh/detail/material_faces.hpp"
 #include "segmesh/detail/material_rows.hpp"
-#include "segmesh/first_touch.hpp"
 #include "segmesh/vec3.hpp"
 
 namespace segmesh {
@@ -30,73 +28,28 @@ constexpr int16_t kJunction = -2;
 // The edges a cell owns (emits the polygon of): 3, 7 and 11, through its corner (1, 1, 1).
 constexpr uint16_t kOwnedEdges = 1u << 3 | 1u << 7 | 1u << 11;
 
-// The material of every grid point of the parts' common box (with its one-point margin), in the
-// narrowest of 1, 2 or 4 bytes that holds the part count, padded by one more point of background
-// on every side, so that a cell's 4 x 4 x 4 neighbourhood is always inside it.
-class MaterialGrid {
+// The materials of one row of grid points, read four points at a time at x ascending: a cursor
+// into the row's runs (MaterialRows), which only moves forward.
+class RowWindow {
  public:
-  MaterialGrid(const MaterialRows& rows, size_t parts)
-      : dims_(rows.dims()),
-        padded_{dims_[0] + 2, dims_[1] + 2, dims_[2] + 2},
-        width_(parts < 0xff     ? 1
-               : parts < 0xffff ? 2
-                                : 4) {
-    resize_zeroed(bytes_, static_cast<size_t>(padded_[0] * padded_[1] * padded_[2]) * width_);
-    tbb::parallel_for(int64_t{0}, dims_[2], [&](int64_t k) {
-      for (int64_t j = 0; j < dims_[1]; ++j)
-        for (const MaterialRun& r : rows.row(j, k))
-          for (int64_t i = r.x_begin; i < r.x_end; ++i) set(index(i, j, k), r.material);
-    });
-  }
-  const std::array<int64_t, 3>& dims() const { return dims_; }
-  // Bit x set where point (i + x, j, k) (x = 0 .. 3) holds material w; i, j and k from -1 to
-  // dims - 4, dims - 1 and dims - 1 (the padding is the background).
-  unsigned equal4(int64_t i, int64_t j, int64_t k, uint32_t w) const {
-    const size_t x = index(i, j, k);
-    if (width_ == 1) {
-      // The four bytes at once: a byte of v is 0 where the material is w, and t gets its top bit
-      // set exactly there (no carry crosses a byte), gathered into bits 0 .. 3 by the product
-      // (its partial products never overlap).
-      uint32_t v;
-      std::memcpy(&v, bytes_.data() + x, 4);
-      v ^= w * 0x01010101u;
-      const uint32_t t = ~(((v & 0x7f7f7f7fu) + 0x7f7f7f7fu) | v | 0x7f7f7f7fu);
-      return unsigned((uint64_t{t >> 7} * 0x204081u) >> 21) & 0xfu;
-    }
+  explicit RowWindow(std::span<const MaterialRun> runs)
+      : at_(runs.data()), end_(runs.data() + runs.size()) {}
+  // Bit x set where point x0 + x (x = 0 .. 3) holds material w; x0 never decreases.
+  unsigned equal4(int64_t x0, uint32_t w) {
+    while (at_ != end_ && at_->x_end <= x0) ++at_;
     unsigned bits = 0;
-    for (int n = 0; n < 4; ++n) bits |= unsigned(get(x + size_t(n)) == w) << n;
+    for (const MaterialRun* r = at_; r != end_ && r->x_begin < x0 + 4; ++r) {
+      if (r->material != w) continue;
+      const int64_t b = std::max<int64_t>(r->x_begin - x0, 0);
+      const int64_t e = std::min<int64_t>(r->x_end - x0, 4);
+      bits |= (1u << e) - (1u << b);
+    }
     return bits;
   }
 
  private:
-  size_t index(int64_t i, int64_t j, int64_t k) const {
-    return static_cast<size_t>(((k + 1) * padded_[1] + (j + 1)) * padded_[0] + (i + 1));
-  }
-  uint32_t get(size_t x) const {
-    if (width_ == 2) {
-      uint16_t m;
-      std::memcpy(&m, bytes_.data() + 2 * x, 2);
-      return m;
-    }
-    uint32_t m;
-    std::memcpy(&m, bytes_.data() + 4 * x, 4);
-    return m;
-  }
-  void set(size_t x, uint32_t m) {
-    if (width_ == 1) {
-      bytes_[x] = uint8_t(m);
-    } else if (width_ == 2) {
-      const uint16_t narrow = uint16_t(m);
-      std::memcpy(bytes_.data() + 2 * x, &narrow, 2);
-    } else {
-      std::memcpy(bytes_.data() + 4 * x, &m, 4);
-    }
-  }
-
-  std::array<int64_t, 3> dims_;
-  std::array<int64_t, 3> padded_;
-  size_t width_;
-  std::vector<uint8_t> bytes_;
+  const MaterialRun* at_;
+  const MaterialRun* end_;
 };
 
 // Bits 0 .. 3 of `bits` moved to bits 0, 16, 32 and 48 (a key's x = 0 .. 3 of one row): the four
@@ -197,10 +150,9 @@ struct Slab {
 
 class Extractor {
  public:
-  Extractor(const MaterialRows& rows, size_t parts, const DcOptions& options, Progress& progress)
+  Extractor(const MaterialRows& rows, const DcOptions& options, Progress& progress)
       : rows_(rows),
         grid_(rows.grid()),
-        materials_(rows, parts),
         table_(dc_table(options.connectivity)),
         joined_by_winner_(options.connectivity != 6),
         options_{.connectivity = options.connectivity,
@@ -208,7 +160,7 @@ class Extractor {
                  .vertex_normals = false},
         solve_{grid_, options_, table_, false},
         progress_(progress),
-        n_(materials_.dims()) {}
+        n_(rows.dims()) {}
 
   LabelledSurface run() {
     LabelledSurface out;
@@ -233,14 +185,25 @@ class Extractor {
     tbb::parallel_for(int64_t{0}, n_[2] - 1, [&](int64_t k) {
       Slab& slab = slabs_[size_t(k)];
       uint32_t* junction = out.junction_vertices.data() + first_junction[size_t(k)];
-      for (size_t r = 0; r + 1 < slab.row_first.size(); ++r)
+      for (size_t r = 0; r + 1 < slab.row_first.size(); ++r) {
+        if (slab.row_first[r] == slab.row_first[r + 1]) continue;
+        const int64_t j = int64_t(r);
+        // The rows of the cells' neighbourhoods that keys read (indicator_key).
+        std::array<RowWindow, 12> windows{
+            RowWindow(rows_.row(j, k - 1)),     RowWindow(rows_.row(j + 1, k - 1)),
+            RowWindow(rows_.row(j - 1, k)),     RowWindow(rows_.row(j, k)),
+            RowWindow(rows_.row(j + 1, k)),     RowWindow(rows_.row(j + 2, k)),
+            RowWindow(rows_.row(j - 1, k + 1)), RowWindow(rows_.row(j, k + 1)),
+            RowWindow(rows_.row(j + 1, k + 1)), RowWindow(rows_.row(j + 2, k + 1)),
+            RowWindow(rows_.row(j, k + 2)),     RowWindow(rows_.row(j + 1, k + 2))};
         for (uint32_t c = slab.row_first[r]; c < slab.row_first[r + 1]; ++c) {
           CutCell& cell = slab.cells[c];
           cell.first_vertex += first_vertex[size_t(k)];
-          place_vertices(int64_t(r), k, cell, out.mesh.positions.data());
+          place_vertices(j, k, cell, windows, out.mesh.positions.data());
           if (cell.cs == kJunction)
             for (uint32_t v = 0; v < cell.vertices; ++v) *junction++ = cell.first_vertex + v;
         }
+      }
     });
     progress_.update(0.6);
     tbb::parallel_for(int64_t{0}, n_[2] - 1, [&](int64_t k) {
@@ -296,19 +259,18 @@ class Extractor {
 
   // The 4 x 4 x 4 neighbourhood of cell (i, j, k) in material w's indicator, as single-label Dual
   // Contouring keys it (dc_neighbourhood_keys.hpp: the cell's corners at 1 and 2), only the points
-  // the central differences read (key_mask): the rest cannot change the solve. The four rows with
-  // both y and z outside the cell hold none of them.
-  uint64_t indicator_key(uint32_t w, int64_t i, int64_t j, int64_t k) const {
+  // the central differences read (key_mask): the rest cannot change the solve. The four rows
+  // (y, z) with both y and z outside the cell hold none of them; `windows` are the other twelve,
+  // z then y ascending, and the cells of a row come at i ascending.
+  uint64_t indicator_key(uint32_t w, int64_t i, std::array<RowWindow, 12>& windows) const {
+    static constexpr std::array<int, 12> kShift = {1, 2, 4, 5, 6, 7, 8, 9, 10, 11, 13, 14};
     uint64_t key = 0;
-    for (int z = 0; z < 4; ++z)
-      for (int y = 0; y < 4; ++y) {
-        if ((y == 0 || y == 3) && (z == 0 || z == 3)) continue;
-        key |= spread_row(materials_.equal4(i - 1, j - 1 + y, k - 1 + z, w)) << (y + 4 * z);
-      }
+    for (size_t n = 0; n < 12; ++n) key |= spread_row(windows[n].equal4(i - 1, w)) << kShift[n];
     return key & key_mask_;
   }
 
-  void place_vertices(int64_t j, int64_t k, const CutCell& cell, Vec3f* positions) const {
+  void place_vertices(int64_t j, int64_t k, const CutCell& cell, std::array<RowWindow, 12>& windows,
+                      Vec3f* positions) const {
     const int64_t i = cell.i;
     auto emit = [&](uint32_t v, Vec3d offset) {
       positions[v] = to_float(grid_.to_world(Vec3d{double(i), double(j), double(k)} + offset));
@@ -316,7 +278,7 @@ class Extractor {
     if (cell.cs != kJunction) {
       // The winner's sheets as single-label Dual Contouring places them.
       // Solved once per neighbourhood and thread (the key decides the case, hence the solve).
-      const uint64_t key = indicator_key(cell.winner, i, j, k);  // never 0: the cell is cut
+      const uint64_t key = indicator_key(cell.winner, i, windows);  // never 0: the cell is cut
       SolvedKeys& solved = solved_.local();
       const uint32_t first = solved.first[solved.first.get(key, [&](uint32_t& f) {
         const dc::CellVertices v = dc::solve_key(solve_, key, cell.cs, nullptr);
@@ -459,7 +421,6 @@ class Extractor {
 
   const MaterialRows& rows_;
   const Grid& grid_;
-  const MaterialGrid materials_;
   const DcTable& table_;
   const bool joined_by_winner_;
   const DcOptions options_;  // what single-label Dual Contouring of a 0/1 field uses
@@ -477,7 +438,7 @@ LabelledSurface multi_label_dual_contouring(const Grid& grid, const Components& 
                                             std::span<const size_t> parts, const DcOptions& options,
                                             Progress& progress) {
   const MaterialRows rows(grid, components, parts);
-  LabelledSurface surface = Extractor(rows, parts.size(), options, progress).run();
+  LabelledSurface surface = Extractor(rows, options, progress).run();
   surface.part_count = parts.size();
   surface.fold_reach = 2;  // labelled_surface.hpp
   return surface;

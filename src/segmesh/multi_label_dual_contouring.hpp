@@ -32,9 +32,11 @@
 // than multi-label Marching Cubes: measured once on the coarse phantom of the tests). Part against
 // background only, the shell is single-label Dual Contouring's (the same triangles; vertices from
 // the same solve). Vertex normals are not computed.
-// Cost: O(grid points of the parts' common box) time for the material grid and the cell scan,
-// O(surface) for the rest; memory 4 bytes per grid point of that box plus 32 bytes per cut cell and
-// the output. Parallel over slabs of cells; the output is the same for any thread count.
+// Cost: O(runs + surface) time: the cells come from merging the runs of four rows of voxels
+// (material_rows.hpp), a binary cell's neighbourhood key from the runs of the twelve rows around
+// it, so the interior of a part and the empty space cost nothing; memory O(runs) plus 48 bytes
+// per cut cell and the output (no material per grid point is stored). Parallel over slabs of
+// cells; the output is the same for any thread count.
 #pragma once
 
 #include <cstddef>
