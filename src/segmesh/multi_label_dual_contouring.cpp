@@ -17,6 +17,7 @@
 #include "segmesh/detail/marching_cubes_table.hpp"
 #include "segmesh/detail/material_faces.hpp"
 #include "segmesh/detail/material_rows.hpp"
+#include "segmesh/first_touch.hpp"
 #include "segmesh/vec3.hpp"
 
 namespace segmesh {
@@ -59,8 +60,11 @@ inline uint64_t spread_row(unsigned bits) {
 }
 
 // One thread's solved neighbourhoods: each key's sheet offsets (index space, from the cell's
-// first corner), offsets[first .. first + pieces), first from the key table.
+// first corner). A key decides its cell's case, so its sheet count: a single sheet's offset is the
+// table's value (one look-up less for nearly every cell); several sheets' are
+// offsets[first .. first + sheets), first the value.
 struct SolvedKeys {
+  dc::KeyTable<Vec3d> single;
   dc::KeyTable<uint32_t> first;
   std::vector<Vec3d> offsets;
 };
@@ -171,17 +175,33 @@ class Extractor {
       scan_slab(k);
     });
     progress_.update(0.3);
-    // Vertex ids: the slabs' cells in order; the junction vertices likewise.
+    // The polygons' triangles and centroid vertices per slab (their costs need no positions).
+    tbb::parallel_for(int64_t{0}, n_[2] - 1, [&](int64_t k) {
+      throw_if_cancelled(progress_);
+      count_polygons(k);
+    });
+    // Vertex ids: the slabs' cells in order, then the centroids; the junction vertices likewise.
     std::vector<uint32_t> first_vertex(slabs_.size()), first_junction(slabs_.size());
-    uint32_t vertices = 0, junctions = 0;
+    std::vector<uint64_t> first_triangle(slabs_.size()), first_extra(slabs_.size());
+    uint64_t vertices = 0, junctions = 0, triangles = 0, extra = 0;
     for (size_t k = 0; k < slabs_.size(); ++k) {
-      first_vertex[k] = vertices;
-      first_junction[k] = junctions;
+      first_vertex[k] = uint32_t(vertices);
+      first_junction[k] = uint32_t(junctions);
       vertices += slabs_[k].vertices;
       junctions += slabs_[k].junction_vertices;
+      mesh_id_count(vertices, "multi-label dual contouring");
     }
-    out.mesh.positions.resize(vertices);
-    out.junction_vertices.resize(junctions);
+    for (size_t k = 0; k < slabs_.size(); ++k) {
+      first_triangle[k] = triangles;
+      first_extra[k] = vertices + extra;
+      triangles += slabs_[k].triangles;
+      extra += slabs_[k].extra;
+    }
+    mesh_id_count(vertices + extra, "multi-label dual contouring");
+    resize_zeroed(out.mesh.positions, size_t(vertices + extra));
+    resize_zeroed(out.mesh.indices, size_t(3 * triangles));
+    out.sides.resize(size_t(triangles));
+    out.junction_vertices.resize(size_t(junctions));
     tbb::parallel_for(int64_t{0}, n_[2] - 1, [&](int64_t k) {
       Slab& slab = slabs_[size_t(k)];
       uint32_t* junction = out.junction_vertices.data() + first_junction[size_t(k)];
@@ -206,22 +226,6 @@ class Extractor {
       }
     });
     progress_.update(0.6);
-    tbb::parallel_for(int64_t{0}, n_[2] - 1, [&](int64_t k) {
-      throw_if_cancelled(progress_);
-      count_polygons(k);
-    });
-    uint64_t triangles = 0, extra = vertices;
-    std::vector<uint64_t> first_triangle(slabs_.size()), first_extra(slabs_.size());
-    for (size_t k = 0; k < slabs_.size(); ++k) {
-      first_triangle[k] = triangles;
-      first_extra[k] = extra;
-      triangles += slabs_[k].triangles;
-      extra += slabs_[k].extra;
-    }
-    mesh_id_count(extra, "multi-label dual contouring");
-    out.mesh.positions.resize(size_t(extra));
-    out.mesh.indices.resize(size_t(3 * triangles));
-    out.sides.resize(size_t(triangles));
     tbb::parallel_for(int64_t{0}, n_[2] - 1, [&](int64_t k) {
       throw_if_cancelled(progress_);
       write_polygons(k, first_triangle[size_t(k)], uint32_t(first_extra[size_t(k)]), out);
@@ -280,6 +284,12 @@ class Extractor {
       // Solved once per neighbourhood and thread (the key decides the case, hence the solve).
       const uint64_t key = indicator_key(cell.winner, i, windows);  // never 0: the cell is cut
       SolvedKeys& solved = solved_.local();
+      if (cell.vertices == 1) {
+        emit(cell.first_vertex, solved.single[solved.single.get(key, [&](Vec3d& offset) {
+          offset = dc::solve_key(solve_, key, cell.cs, nullptr).offset[0];
+        })]);
+        return;
+      }
       const uint32_t first = solved.first[solved.first.get(key, [&](uint32_t& f) {
         const dc::CellVertices v = dc::solve_key(solve_, key, cell.cs, nullptr);
         f = uint32_t(solved.offsets.size());
@@ -309,9 +319,10 @@ class Extractor {
   }
 
   // Calls visit(polygon, inside, outside) for each cut edge the cells of row j of slab k own
-  // (their edges 3, 7 and 11: the cell is the edge's quadrant (-1, -1)).
-  template <class Visit>
-  void row_polygons(int64_t j, int64_t k, Visit&& visit) const {
+  // (their edges 3, 7 and 11: the cell is the edge's quadrant (-1, -1)), or quad(vertices, inside,
+  // outside) where its four cells hold one vertex each there (the polygon is that quad).
+  template <class Quad, class Visit>
+  void row_polygons(int64_t j, int64_t k, Quad&& quad, Visit&& visit) const {
     const Slab& s = slabs_[size_t(k)];
     const bool mirrored = grid_.mirrored();
     // The cells of rows j and j + 1 of slabs k and k + 1, which hold every polygon's four cells;
@@ -364,8 +375,17 @@ class Extractor {
                                other->first_vertex};
           }
         }
-        visit(dc::polygon(table_, axis, refs, inside == m0, mirrored), inside,
-              inside == m0 ? m1 : m0);
+        const uint32_t outside = inside == m0 ? m1 : m0;
+        if (refs[0].cs == dc::kOneSheet && refs[1].cs == dc::kOneSheet &&
+            refs[2].cs == dc::kOneSheet && refs[3].cs == dc::kOneSheet) {
+          // Four single vertices: the quad dc::polygon makes of them, without its table.
+          const bool reverse = (inside == m0) == mirrored;
+          std::array<uint32_t, 4> v;
+          for (int q = 0; q < 4; ++q) v[size_t(q)] = refs[size_t(reverse ? 3 - q : q)].first_vertex;
+          quad(v, inside, outside);
+          continue;
+        }
+        visit(dc::polygon(table_, axis, refs, inside == m0, mirrored), inside, outside);
       }
     }
   }
@@ -389,11 +409,13 @@ class Extractor {
         s.triangles += 2 * uint64_t(s.row_owned[size_t(j)]);
         continue;
       }
-      row_polygons(j, k, [&](const dc::Polygon& p, uint32_t, uint32_t) {
-        const auto [t, x] = dc::polygon_cost(p);
-        s.triangles += t;
-        s.extra += x;
-      });
+      row_polygons(
+          j, k, [&](const std::array<uint32_t, 4>&, uint32_t, uint32_t) { s.triangles += 2; },
+          [&](const dc::Polygon& p, uint32_t, uint32_t) {
+            const auto [t, x] = dc::polygon_cost(p);
+            s.triangles += t;
+            s.extra += x;
+          });
     }
   }
 
@@ -405,7 +427,13 @@ class Extractor {
     std::vector<std::array<int, 3>> scratch;
     for (int64_t j = 0; j + 1 < int64_t(slabs_[size_t(k)].row_first.size()); ++j) {
       if (slabs_[size_t(k)].row_owned[size_t(j)] == 0) continue;
-      row_polygons(j, k, [&](const dc::Polygon& p, uint32_t inside, uint32_t outside) {
+      auto quad = [&](const std::array<uint32_t, 4>& v, uint32_t inside, uint32_t outside) {
+        sides[0] = sides[1] = {inside, outside};
+        sides += 2;
+        quads.push_back({idx, {v[0], v[1], v[2], v[3]}});
+        idx += 6;
+      };
+      row_polygons(j, k, quad, [&](const dc::Polygon& p, uint32_t inside, uint32_t outside) {
         const uint64_t t = dc::polygon_cost(p).first;
         for (uint64_t q = 0; q < t; ++q) *sides++ = {inside, outside};
         if (p.n == 4) {
