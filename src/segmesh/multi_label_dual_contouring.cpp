@@ -69,25 +69,35 @@ struct SolvedKeys {
   std::vector<Vec3d> offsets;
 };
 
-// A cell whose corners are not all one material.
+// A cell whose corners are not all one material (24 bytes: the scan writes one per cut cell
+// and the later passes read them all, so their size is memory traffic).
 struct CutCell {
-  int32_t i = 0;                   // its x
-  uint32_t first_vertex = 0;       // slab-local until the slabs are joined
-  int16_t cs = 0;                  // a binary cell: the winner's case; kJunction
-  uint8_t vertices = 0;            // its vertices: first_vertex ..
-  uint8_t cut_lo = 0, cut_hi = 0;  // its cut edges (bits 0..7, 8..11)
-  std::array<int8_t, 12> piece{};  // a junction cell: each cut edge's piece
-  uint32_t winner = 0;             // a binary cell: the material inside
+  int32_t i = 0;              // its x
+  uint32_t first_vertex = 0;  // slab-local until the slabs are joined
+  // A binary cell: the material inside and the other one. A junction cell: `winner` is its
+  // index in its slab's junction cells (JunctionCell).
+  uint32_t winner = 0, other = 0;
+  uint16_t cut = 0;      // its cut edges (bit e: edge e)
+  int16_t cs = 0;        // a binary cell: the winner's case; kJunction
+  uint8_t vertices = 0;  // its vertices: first_vertex ..
+  uint8_t winner_ends =
+      0;  // a binary cell: bit n set where owned end n (JunctionCell) is the winner
+};
+
+// What only a junction cell needs.
+struct JunctionCell {
+  std::array<int8_t, 12> piece;  // each cut edge's piece (its vertex first_vertex + piece)
   // The materials of the ends of the edges the cell owns (its edges 3, 7 and 11, the ones
   // through its corner (1, 1, 1)): corner (1, 1, 1), then the other end of the x, y and z edge,
   // (0, 1, 1), (1, 0, 1) and (1, 1, 0). From the corners the cell was classified by, so the
-  // polygons need no look-up in the material grid.
-  std::array<uint32_t, 4> owned_ends{};
-  uint16_t cut() const { return uint16_t(cut_lo | cut_hi << 8); }
+  // polygons need no look-up in the voxels.
+  std::array<uint32_t, 4> owned_ends;
 };
 
 // Classifies a cell from its corners' materials; false when they are all one.
-bool classify(const uint32_t* m, bool joined_by_winner, const DcTable& table, CutCell& cell) {
+// A junction cell's pieces go to `junction`.
+bool classify(const uint32_t* m, bool joined_by_winner, const DcTable& table, CutCell& cell,
+              JunctionCell& junction) {
   uint32_t first = m[0], second = m[0];
   bool third = false;
   for (int c = 1; c < 8; ++c) {
@@ -101,10 +111,10 @@ bool classify(const uint32_t* m, bool joined_by_winner, const DcTable& table, Cu
   uint16_t cut = 0;
   for (int e = 0; e < 12; ++e)
     if (m[kMcEdgeCorner[e][0]] != m[kMcEdgeCorner[e][1]]) cut |= uint16_t(1u << e);
-  cell.cut_lo = uint8_t(cut & 0xff);
-  cell.cut_hi = uint8_t(cut >> 8);
+  cell.cut = cut;
   if (!third) {
     cell.winner = winning_material(first, second);
+    cell.other = cell.winner == first ? second : first;
     int cs = 0;
     for (int c = 0; c < 8; ++c)
       if (m[c] == cell.winner) cs |= 1 << c;
@@ -127,13 +137,13 @@ bool classify(const uint32_t* m, bool joined_by_winner, const DcTable& table, Cu
   std::array<int8_t, 18> piece_of_root;
   piece_of_root.fill(-1);
   cell.cs = kJunction;
-  cell.piece.fill(-1);
+  junction.piece.fill(-1);
   int pieces = 0;
   for (int e = 0; e < 12; ++e) {
     if (!(cut >> e & 1)) continue;
     int8_t& p = piece_of_root[size_t(find(e))];
     if (p < 0) p = int8_t(pieces++);
-    cell.piece[size_t(e)] = p;
+    junction.piece[size_t(e)] = p;
   }
   cell.vertices = uint8_t(pieces);
   return true;
@@ -142,6 +152,7 @@ bool classify(const uint32_t* m, bool joined_by_winner, const DcTable& table, Cu
 // The cut cells of one slab of cells (z = k), by row.
 struct Slab {
   std::vector<CutCell> cells;
+  std::vector<JunctionCell> junctions;
   std::vector<uint32_t> row_first;  // cells of row j: [row_first[j], row_first[j + 1])
   uint32_t vertices = 0;
   uint32_t junction_vertices = 0;  // the junction cells' vertices among them
@@ -200,7 +211,7 @@ class Extractor {
     mesh_id_count(vertices + extra, "multi-label dual contouring");
     resize_zeroed(out.mesh.positions, size_t(vertices + extra));
     resize_zeroed(out.mesh.indices, size_t(3 * triangles));
-    out.sides.resize(size_t(triangles));
+    resize_zeroed(out.sides, size_t(triangles));
     out.junction_vertices.resize(size_t(junctions));
     tbb::parallel_for(int64_t{0}, n_[2] - 1, [&](int64_t k) {
       Slab& slab = slabs_[size_t(k)];
@@ -237,6 +248,10 @@ class Extractor {
  private:
   void scan_slab(int64_t k) {
     Slab& slab = slabs_[size_t(k)];
+    // Room for as many cells as the thread's previous slab had, and an eighth more: neighbouring
+    // slabs have similar counts, and growing the vector copies every cell.
+    size_t& hint = cells_hint_.local();
+    slab.cells.reserve(hint + hint / 8);
     slab.row_first.assign(size_t(n_[1]), 0);
     slab.row_owned.assign(size_t(n_[1]), 0);
     slab.row_rare.assign(size_t(n_[1]), 0);
@@ -246,19 +261,29 @@ class Extractor {
       uint8_t& rare = slab.row_rare[size_t(j)];
       rows_.cells(j, k, [&](int64_t i, const uint32_t* m) {
         CutCell cell;
-        if (!classify(m, joined_by_winner_, table_, cell)) return;
-        owned += uint32_t(std::popcount(unsigned(cell.cut() & kOwnedEdges)));
+        JunctionCell junction;
+        if (!classify(m, joined_by_winner_, table_, cell, junction)) return;
+        owned += uint32_t(std::popcount(unsigned(cell.cut & kOwnedEdges)));
         rare |= uint8_t(cell.cs != kJunction && cell.vertices > 1);
         // MaterialRows::cells numbers corner (x, y, z) as x + 2 y + 4 z.
-        cell.owned_ends = {m[7], m[6], m[5], m[3]};
+        const std::array<uint32_t, 4> ends{m[7], m[6], m[5], m[3]};
+        if (cell.cs == kJunction) {
+          junction.owned_ends = ends;
+          cell.winner = uint32_t(slab.junctions.size());
+          slab.junctions.push_back(junction);
+          slab.junction_vertices += cell.vertices;
+        } else {
+          for (int n = 0; n < 4; ++n)
+            cell.winner_ends |= uint8_t(unsigned(ends[size_t(n)] == cell.winner) << n);
+        }
         cell.i = int32_t(i);
         cell.first_vertex = slab.vertices;
         slab.vertices += cell.vertices;
-        if (cell.cs == kJunction) slab.junction_vertices += cell.vertices;
         slab.cells.push_back(cell);
       });
     }
     slab.row_first[size_t(n_[1] - 1)] = uint32_t(slab.cells.size());
+    hint = slab.cells.size();
   }
 
   // The 4 x 4 x 4 neighbourhood of cell (i, j, k) in material w's indicator, as single-label Dual
@@ -303,10 +328,10 @@ class Extractor {
     // A junction cell: each piece at the mass point of its cut edges' midpoints.
     std::array<Vec3d, 12> sum{};
     std::array<int, 12> count{};
-    const uint16_t cut = cell.cut();
+    const std::array<int8_t, 12>& piece = slabs_[size_t(k)].junctions[cell.winner].piece;
     for (int e = 0; e < 12; ++e) {
-      if (!(cut >> e & 1)) continue;
-      const size_t p = size_t(cell.piece[size_t(e)]);
+      if (!(cell.cut >> e & 1)) continue;
+      const size_t p = size_t(piece[size_t(e)]);
       sum[p] = sum[p] + cell_point(e);
       ++count[p];
     }
@@ -316,6 +341,12 @@ class Extractor {
       const Vec3d mass = (1.0 / count[size_t(p)]) * sum[size_t(p)];
       emit(cell.first_vertex + uint32_t(p), keep_in_box(mass, mass, lo, hi));
     }
+  }
+
+  // The material at end n of the edges `cell` of slab s owns (JunctionCell::owned_ends).
+  static uint32_t owned_end(const Slab& s, const CutCell& cell, int n) {
+    if (cell.cs == kJunction) return s.junctions[cell.winner].owned_ends[size_t(n)];
+    return cell.winner_ends >> n & 1 ? cell.winner : cell.other;
   }
 
   // Calls visit(polygon, inside, outside) for each cut edge the cells of row j of slab k own
@@ -347,16 +378,16 @@ class Extractor {
                                row_cells(j + 1, k + 1)};
     for (uint32_t ci = s.row_first[r]; ci < s.row_first[r + 1]; ++ci) {
       const CutCell& cell = s.cells[ci];
-      if (!(cell.cut() & kOwnedEdges)) continue;
+      if (!(cell.cut & kOwnedEdges)) continue;
       for (Cursor& c : rows)
         while (c.at != c.end && c.at->i < cell.i) ++c.at;
       for (int axis = 0; axis < 3; ++axis) {
         const int e = 4 * axis + 3;
-        if (!(cell.cut() >> e & 1)) continue;
+        if (!(cell.cut >> e & 1)) continue;
         const int u = (axis + 1) % 3, v = (axis + 2) % 3;
         // The edge from cell corner (1, 1, 1) minus the axis to corner (1, 1, 1).
-        const uint32_t m0 = cell.owned_ends[size_t(1 + axis)];
-        const uint32_t m1 = cell.owned_ends[0];
+        const uint32_t m0 = owned_end(s, cell, 1 + axis);
+        const uint32_t m1 = owned_end(s, cell, 0);
         const uint32_t inside = winning_material(m0, m1);
         std::array<dc::CellRef, 4> refs;
         for (int q = 0; q < 4; ++q) {
@@ -368,8 +399,10 @@ class Extractor {
           while (other->i < cell.i + offset[0]) ++other;
           if (other->cs == kJunction) {
             const int le = dc::local_edge(axis, -dc::kQuadrantDu[q], -dc::kQuadrantDv[q]);
-            refs[size_t(q)] = {dc::kOneSheet,
-                               other->first_vertex + uint32_t(other->piece[size_t(le)])};
+            const Slab& in = slabs_[size_t(k + offset[2])];
+            refs[size_t(q)] = {
+                dc::kOneSheet,
+                other->first_vertex + uint32_t(in.junctions[other->winner].piece[size_t(le)])};
           } else {
             refs[size_t(q)] = {other->vertices == 1 ? dc::kOneSheet : int(other->cs),
                                other->first_vertex};
@@ -458,6 +491,7 @@ class Extractor {
   std::vector<Slab> slabs_;
   const uint64_t key_mask_ = dc::key_mask(NormalMethod::central);
   mutable tbb::enumerable_thread_specific<SolvedKeys> solved_;
+  tbb::enumerable_thread_specific<size_t> cells_hint_{size_t{0}};
 };
 
 }  // namespace
