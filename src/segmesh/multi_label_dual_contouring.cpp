@@ -7,9 +7,11 @@
 #include <array>
 #include <bit>
 #include <numeric>
+#include <optional>
 #include <vector>
 
 #include "segmesh/detail/dc_key_table.hpp"
+#include "segmesh/detail/dc_material_keys.hpp"
 #include "segmesh/detail/dc_neighbourhood_keys.hpp"
 #include "segmesh/detail/dc_polygons.hpp"
 #include "segmesh/detail/dc_vertices.hpp"
@@ -28,36 +30,6 @@ constexpr int16_t kJunction = -2;
 
 // The edges a cell owns (emits the polygon of): 3, 7 and 11, through its corner (1, 1, 1).
 constexpr uint16_t kOwnedEdges = 1u << 3 | 1u << 7 | 1u << 11;
-
-// The materials of one row of grid points, read four points at a time at x ascending: a cursor
-// into the row's runs (MaterialRows), which only moves forward.
-class RowWindow {
- public:
-  explicit RowWindow(std::span<const MaterialRun> runs)
-      : at_(runs.data()), end_(runs.data() + runs.size()) {}
-  // Bit x set where point x0 + x (x = 0 .. 3) holds material w; x0 never decreases.
-  unsigned equal4(int64_t x0, uint32_t w) {
-    while (at_ != end_ && at_->x_end <= x0) ++at_;
-    unsigned bits = 0;
-    for (const MaterialRun* r = at_; r != end_ && r->x_begin < x0 + 4; ++r) {
-      if (r->material != w) continue;
-      const int64_t b = std::max<int64_t>(r->x_begin - x0, 0);
-      const int64_t e = std::min<int64_t>(r->x_end - x0, 4);
-      bits |= (1u << e) - (1u << b);
-    }
-    return bits;
-  }
-
- private:
-  const MaterialRun* at_;
-  const MaterialRun* end_;
-};
-
-// Bits 0 .. 3 of `bits` moved to bits 0, 16, 32 and 48 (a key's x = 0 .. 3 of one row): the four
-// partial products of the multiplication never overlap.
-inline uint64_t spread_row(unsigned bits) {
-  return (uint64_t{bits} * 0x0000200040008001ULL) & 0x0001000100010001ULL;
-}
 
 // One thread's solved neighbourhoods: each key's sheet offsets (index space, from the cell's
 // first corner). A key decides its cell's case, so its sheet count: a single sheet's offset is the
@@ -165,8 +137,11 @@ struct Slab {
 
 class Extractor {
  public:
-  Extractor(const MaterialRows& rows, const DcOptions& options, Progress& progress)
+  // `bits`: the parts' inside bits, or null to read keys from the runs (dc_material_keys.hpp).
+  Extractor(const MaterialRows& rows, const dc::MaterialBits* bits, const DcOptions& options,
+            Progress& progress)
       : rows_(rows),
+        bits_(bits),
         grid_(rows.grid()),
         table_(dc_table(options.connectivity)),
         joined_by_winner_(options.connectivity != 6),
@@ -219,14 +194,9 @@ class Extractor {
       for (size_t r = 0; r + 1 < slab.row_first.size(); ++r) {
         if (slab.row_first[r] == slab.row_first[r + 1]) continue;
         const int64_t j = int64_t(r);
-        // The rows of the cells' neighbourhoods that keys read (indicator_key).
-        std::array<RowWindow, 12> windows{
-            RowWindow(rows_.row(j, k - 1)),     RowWindow(rows_.row(j + 1, k - 1)),
-            RowWindow(rows_.row(j - 1, k)),     RowWindow(rows_.row(j, k)),
-            RowWindow(rows_.row(j + 1, k)),     RowWindow(rows_.row(j + 2, k)),
-            RowWindow(rows_.row(j - 1, k + 1)), RowWindow(rows_.row(j, k + 1)),
-            RowWindow(rows_.row(j + 1, k + 1)), RowWindow(rows_.row(j + 2, k + 1)),
-            RowWindow(rows_.row(j, k + 2)),     RowWindow(rows_.row(j + 1, k + 2))};
+        // The rows of the cells' neighbourhoods that keys read, when not from the bits.
+        std::array<dc::RowWindow, 12> windows;
+        if (!bits_) windows = dc::key_windows(rows_, j, k);
         for (uint32_t c = slab.row_first[r]; c < slab.row_first[r + 1]; ++c) {
           CutCell& cell = slab.cells[c];
           cell.first_vertex += first_vertex[size_t(k)];
@@ -288,18 +258,14 @@ class Extractor {
 
   // The 4 x 4 x 4 neighbourhood of cell (i, j, k) in material w's indicator, as single-label Dual
   // Contouring keys it (dc_neighbourhood_keys.hpp: the cell's corners at 1 and 2), only the points
-  // the central differences read (key_mask): the rest cannot change the solve. The four rows
-  // (y, z) with both y and z outside the cell hold none of them; `windows` are the other twelve,
-  // z then y ascending, and the cells of a row come at i ascending.
-  uint64_t indicator_key(uint32_t w, int64_t i, std::array<RowWindow, 12>& windows) const {
-    static constexpr std::array<int, 12> kShift = {1, 2, 4, 5, 6, 7, 8, 9, 10, 11, 13, 14};
-    uint64_t key = 0;
-    for (size_t n = 0; n < 12; ++n) key |= spread_row(windows[n].equal4(i - 1, w)) << kShift[n];
-    return key & key_mask_;
+  // the central differences read (key_mask): the rest cannot change the solve.
+  uint64_t indicator_key(uint32_t w, int64_t i, int64_t j, int64_t k,
+                         std::array<dc::RowWindow, 12>& windows) const {
+    return (bits_ ? bits_->key(w, i, j, k) : dc::window_key(windows, i, w)) & key_mask_;
   }
 
-  void place_vertices(int64_t j, int64_t k, const CutCell& cell, std::array<RowWindow, 12>& windows,
-                      Vec3f* positions) const {
+  void place_vertices(int64_t j, int64_t k, const CutCell& cell,
+                      std::array<dc::RowWindow, 12>& windows, Vec3f* positions) const {
     const int64_t i = cell.i;
     auto emit = [&](uint32_t v, Vec3d offset) {
       positions[v] = to_float(grid_.to_world(Vec3d{double(i), double(j), double(k)} + offset));
@@ -307,7 +273,7 @@ class Extractor {
     if (cell.cs != kJunction) {
       // The winner's sheets as single-label Dual Contouring places them.
       // Solved once per neighbourhood and thread (the key decides the case, hence the solve).
-      const uint64_t key = indicator_key(cell.winner, i, windows);  // never 0: the cell is cut
+      const uint64_t key = indicator_key(cell.winner, i, j, k, windows);  // never 0: it is cut
       SolvedKeys& solved = solved_.local();
       if (cell.vertices == 1) {
         emit(cell.first_vertex, solved.single[solved.single.get(key, [&](Vec3d& offset) {
@@ -455,32 +421,43 @@ class Extractor {
   void write_polygons(int64_t k, uint64_t first_triangle, uint32_t extra, LabelledSurface& out) {
     uint32_t* idx = out.mesh.indices.data() + 3 * first_triangle;
     std::array<uint32_t, 2>* sides = out.sides.data() + first_triangle;
-    std::vector<dc::PendingQuad> quads;
-    quads.reserve(size_t(slabs_[size_t(k)].triangles / 2));
+    // Quads wait in a small batch for their diagonals (dc::split_quads, four at a time), so their
+    // vertices are split while the positions just read are still in cache.
+    constexpr size_t kBatch = 64;
+    std::array<dc::PendingQuad, kBatch> quads;
+    size_t pending = 0;
+    auto add_quad = [&](uint32_t a, uint32_t b, uint32_t c, uint32_t d) {
+      quads[pending++] = {idx, {a, b, c, d}};
+      idx += 6;
+      if (pending == kBatch) {
+        dc::split_quads(out.mesh.positions.data(), quads.data(), pending);
+        pending = 0;
+      }
+    };
     std::vector<std::array<int, 3>> scratch;
     for (int64_t j = 0; j + 1 < int64_t(slabs_[size_t(k)].row_first.size()); ++j) {
       if (slabs_[size_t(k)].row_owned[size_t(j)] == 0) continue;
       auto quad = [&](const std::array<uint32_t, 4>& v, uint32_t inside, uint32_t outside) {
-        sides[0] = sides[1] = {inside, outside};
+        sides[0] = {inside, outside};
+        sides[1] = {inside, outside};
         sides += 2;
-        quads.push_back({idx, {v[0], v[1], v[2], v[3]}});
-        idx += 6;
+        add_quad(v[0], v[1], v[2], v[3]);
       };
       row_polygons(j, k, quad, [&](const dc::Polygon& p, uint32_t inside, uint32_t outside) {
         const uint64_t t = dc::polygon_cost(p).first;
         for (uint64_t q = 0; q < t; ++q) *sides++ = {inside, outside};
         if (p.n == 4) {
-          quads.push_back({idx, {p.vertex[0], p.vertex[1], p.vertex[2], p.vertex[3]}});
-          idx += 6;
+          add_quad(p.vertex[0], p.vertex[1], p.vertex[2], p.vertex[3]);
           return;
         }
         idx = dc::write_polygon(p, out.mesh, extra, idx, scratch);
       });
     }
-    dc::split_quads(out.mesh.positions.data(), quads.data(), quads.size());
+    dc::split_quads(out.mesh.positions.data(), quads.data(), pending);
   }
 
   const MaterialRows& rows_;
+  const dc::MaterialBits* bits_;
   const Grid& grid_;
   const DcTable& table_;
   const bool joined_by_winner_;
@@ -500,7 +477,10 @@ LabelledSurface multi_label_dual_contouring(const Grid& grid, const Components& 
                                             std::span<const size_t> parts, const DcOptions& options,
                                             Progress& progress) {
   const MaterialRows rows(grid, components, parts);
-  LabelledSurface surface = Extractor(rows, options, progress).run();
+  const std::vector<dc::PartBox> boxes = dc::part_boxes(components, parts);
+  std::optional<dc::MaterialBits> bits;
+  if (!rows.empty() && dc::MaterialBits::fits(boxes, rows.dims())) bits.emplace(rows, boxes);
+  LabelledSurface surface = Extractor(rows, bits ? &*bits : nullptr, options, progress).run();
   surface.part_count = parts.size();
   surface.fold_reach = 2;  // labelled_surface.hpp
   return surface;

@@ -32,11 +32,13 @@
 // than multi-label Marching Cubes: measured once on the coarse phantom of the tests). Part against
 // background only, the shell is single-label Dual Contouring's (the same triangles; vertices from
 // the same solve). Vertex normals are not computed.
-// Cost: O(runs + surface) time: the cells come from merging the runs of four rows of voxels
-// (material_rows.hpp), a binary cell's neighbourhood key from the runs of the twelve rows around
-// it, so the interior of a part and the empty space cost nothing; memory O(runs) plus 48 bytes
-// per cut cell and the output (no material per grid point is stored). Parallel over slabs of
-// cells; the output is the same for any thread count.
+// Cost: O(runs + surface) time for the cells, which come from merging the runs of four rows of
+// voxels (material_rows.hpp), so the interior of a part and the empty space cost nothing. A binary
+// cell's neighbourhood key comes from every part's inside bits on its own box, one bit per point
+// of each part's box (at most half a byte per point of the parts' common box, else from the runs
+// of the twelve rows around it: detail/dc_material_keys.hpp); memory that plus O(runs), 24 bytes
+// per cut cell and the output. Parallel over slabs of cells; the output is the same for any
+// thread count.
 #pragma once
 
 #include <cstddef>
