@@ -190,6 +190,7 @@ class Extractor {
     out.junction_vertices.resize(size_t(junctions));
     tbb::parallel_for(int64_t{0}, n_[2] - 1, [&](int64_t k) {
       Slab& slab = slabs_[size_t(k)];
+      SolvedKeys& solved = solved_.local();  // once per slab: local() is a look-up
       uint32_t* junction = out.junction_vertices.data() + first_junction[size_t(k)];
       for (size_t r = 0; r + 1 < slab.row_first.size(); ++r) {
         if (slab.row_first[r] == slab.row_first[r + 1]) continue;
@@ -200,7 +201,7 @@ class Extractor {
         for (uint32_t c = slab.row_first[r]; c < slab.row_first[r + 1]; ++c) {
           CutCell& cell = slab.cells[c];
           cell.first_vertex += first_vertex[size_t(k)];
-          place_vertices(j, k, cell, windows, out.mesh.positions.data());
+          place_vertices(j, k, cell, windows, solved, out.mesh.positions.data());
           if (cell.cs == kJunction)
             for (uint32_t v = 0; v < cell.vertices; ++v) *junction++ = cell.first_vertex + v;
         }
@@ -264,8 +265,10 @@ class Extractor {
     return (bits_ ? bits_->key(w, i, j, k) : dc::window_key(windows, i, w)) & key_mask_;
   }
 
+  // `solved`: the calling thread's solved neighbourhoods.
   void place_vertices(int64_t j, int64_t k, const CutCell& cell,
-                      std::array<dc::RowWindow, 12>& windows, Vec3f* positions) const {
+                      std::array<dc::RowWindow, 12>& windows, SolvedKeys& solved,
+                      Vec3f* positions) const {
     const int64_t i = cell.i;
     auto emit = [&](uint32_t v, Vec3d offset) {
       positions[v] = to_float(grid_.to_world(Vec3d{double(i), double(j), double(k)} + offset));
@@ -274,7 +277,6 @@ class Extractor {
       // The winner's sheets as single-label Dual Contouring places them.
       // Solved once per neighbourhood and thread (the key decides the case, hence the solve).
       const uint64_t key = indicator_key(cell.winner, i, j, k, windows);  // never 0: it is cut
-      SolvedKeys& solved = solved_.local();
       if (cell.vertices == 1) {
         emit(cell.first_vertex, solved.single[solved.single.get(key, [&](Vec3d& offset) {
           offset = dc::solve_key(solve_, key, cell.cs, nullptr).offset[0];
