@@ -352,25 +352,21 @@ class Extractor {
       for (int axis = 0; axis < 3; ++axis) {
         const int e = 4 * axis + 3;
         if (!(cell.cut >> e & 1)) continue;
-        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
         // The edge from cell corner (1, 1, 1) minus the axis to corner (1, 1, 1).
         const uint32_t m0 = owned_end(s, cell, 1 + axis);
         const uint32_t m1 = owned_end(s, cell, 0);
         const uint32_t inside = winning_material(m0, m1);
         std::array<dc::CellRef, 4> refs;
         for (int q = 0; q < 4; ++q) {
-          // The quadrant's cell, offset from this one by 0 or 1 along u and v.
-          std::array<int, 3> offset{0, 0, 0};
-          offset[size_t(u)] = 1 + dc::kQuadrantDu[q];
-          offset[size_t(v)] = 1 + dc::kQuadrantDv[q];
-          const CutCell* other = rows[size_t(offset[1] + 2 * offset[2])].at;
-          while (other->i < cell.i + offset[0]) ++other;
+          const QuadrantCell& at = kQuadrantCells[size_t(axis)][size_t(q)];
+          const CutCell* other = rows[size_t(at.row)].at;
+          // The cell is cut (the edge is), so it is at the cursor or the next one.
+          other += other->i < cell.i + at.dx;
           if (other->cs == kJunction) {
-            const int le = dc::local_edge(axis, -dc::kQuadrantDu[q], -dc::kQuadrantDv[q]);
-            const Slab& in = slabs_[size_t(k + offset[2])];
+            const Slab& in = slabs_[size_t(k + (at.row >> 1))];
             refs[size_t(q)] = {
                 dc::kOneSheet,
-                other->first_vertex + uint32_t(in.junctions[other->winner].piece[size_t(le)])};
+                other->first_vertex + uint32_t(in.junctions[other->winner].piece[size_t(at.edge)])};
           } else {
             refs[size_t(q)] = {other->vertices == 1 ? dc::kOneSheet : int(other->cs),
                                other->first_vertex};
@@ -390,6 +386,29 @@ class Extractor {
       }
     }
   }
+
+  // Where the cell of quadrant q (dc::kQuadrantDu / kQuadrantDv order) around the edge along
+  // `axis` that a cell owns lies: in which of the four rows of row_polygons (row j + (row & 1) of
+  // slab k + (row >> 1)), at x + dx, and which of its edges the polygon's edge is.
+  struct QuadrantCell {
+    int row, dx, edge;
+  };
+  static constexpr std::array<std::array<QuadrantCell, 4>, 3> kQuadrantCells = [] {
+    std::array<std::array<QuadrantCell, 4>, 3> out{};
+    for (int axis = 0; axis < 3; ++axis) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      for (int q = 0; q < 4; ++q) {
+        // The quadrant's cell, offset from the owning cell by 0 or 1 along u and v.
+        std::array<int, 3> offset{0, 0, 0};
+        offset[size_t(u)] = 1 + dc::kQuadrantDu[q];
+        offset[size_t(v)] = 1 + dc::kQuadrantDv[q];
+        out[size_t(axis)][size_t(q)] = {
+            offset[1] + 2 * offset[2], offset[0],
+            dc::local_edge(axis, -dc::kQuadrantDu[q], -dc::kQuadrantDv[q])};
+      }
+    }
+    return out;
+  }();
 
   // Whether a polygon the cells of row j of slab k own can be more than a quad: a rare cell in
   // one of the four rows that hold their cells.

@@ -30,7 +30,7 @@ inline constexpr bool kQuadrantForward[4] = {true, false, true, false};
 // The cell edge (marching_cubes_table.hpp numbering) along `axis` at cell coordinates (cu, cv)
 // along u and v; the cell of quadrant q holds the edge as local_edge(axis, -kQuadrantDu[q],
 // -kQuadrantDv[q]).
-inline int local_edge(int axis, int cu, int cv) {
+constexpr int local_edge(int axis, int cu, int cv) {
   return axis * 4 + (axis == 1 ? cv + 2 * cu : cu + 2 * cv);
 }
 
