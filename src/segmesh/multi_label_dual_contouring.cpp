@@ -52,9 +52,11 @@ struct CutCell {
   uint16_t cut = 0;      // its cut edges (bit e: edge e)
   int16_t cs = 0;        // a binary cell: the winner's case; kJunction
   uint8_t vertices = 0;  // its vertices: first_vertex ..
-  uint8_t winner_ends =
-      0;  // a binary cell: bit n set where owned end n (JunctionCell) is the winner
+  // A binary cell: bit n set where end n of its owned edges (in JunctionCell::owned_ends' order)
+  // holds the winner.
+  uint8_t winner_ends = 0;
 };
+static_assert(sizeof(CutCell) == 24);
 
 // What only a junction cell needs.
 struct JunctionCell {
