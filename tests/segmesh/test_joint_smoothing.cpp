@@ -301,17 +301,8 @@ TEST(JointSmoothing, ContactVerticesWhereTheWindingChangesAreSmoothed) {
   }
   ASSERT_GT(inner, 1000u);
   EXPECT_LT(double(unmoved), 0.01 * double(inner)) << unmoved << " of " << inner;
-  for (const Part& part : smoothed.parts) {
-    const TriMesh& m = part.mesh;
-    double worst = 1;
-    for (size_t t = 0; t < m.triangle_count(); ++t) {
-      const uint32_t* x = &m.indices[3 * t];
-      worst = std::min(worst, radii_ratio(to_double(m.positions[x[0]]),
-                                          to_double(m.positions[x[1]]),
-                                          to_double(m.positions[x[2]])));
-    }
-    EXPECT_GT(worst, 1e-4) << part.name;
-  }
+  for (const Part& part : smoothed.parts)
+    EXPECT_GT(triangle_quality(part.mesh).min, 1e-4) << part.name;
 }
 
 // The report's positions before smoothing are the surface's, gathered through the cut after
