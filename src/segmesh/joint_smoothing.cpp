@@ -167,17 +167,8 @@ void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Prog
       const Vec3d p = smoothed[i];
       return F4{float(p.x), float(p.y), float(p.z), 0.0f};
     };
-    scatter_triangles(triangles.chunks, [&](size_t t0, size_t t1) {
-      for_each_interleaved(t0, t1, [&](size_t t) {
-        const uint32_t* x = &idx[3 * t];
-        const F4 p0 = at(x[0]);
-        F4 n = cross3(at(x[1]) - p0, at(x[2]) - p0);
-        if (surface.sides[t][0] == 0) n = F4{} - n;  // the background inside: its part outside
-        a[x[0]] += n;
-        a[x[1]] += n;
-        a[x[2]] += n;
-      });
-    });
+    // The background inside: its part outside.
+    add_area_vectors(triangles, at, a, [&](size_t t) { return surface.sides[t][0] == 0; });
     for_each_vertex(nv, [&](size_t i) {
       a[i] = topology.free_material[i] != 0 ? unit_or(a[i], F4{}) : F4{};
     });

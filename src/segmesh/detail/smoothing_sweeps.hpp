@@ -70,12 +70,17 @@ struct Triangles {
   const uint32_t* idx;
   TriangleChunks chunks;
 
+  // f(t, a, b, c) for every triangle t = (a, b, c).
+  template <class F>
+  void each_indexed(F&& f) const {
+    scatter_triangles(chunks, [&](size_t t0, size_t t1) {
+      for_each_interleaved(
+          t0, t1, [&](size_t t) { f(t, idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]); });
+    });
+  }
   template <class F>
   void each(F&& f) const {
-    scatter_triangles(chunks, [&](size_t t0, size_t t1) {
-      for_each_interleaved(t0, t1,
-                           [&](size_t t) { f(idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]); });
-    });
+    each_indexed([&](size_t, uint32_t a, uint32_t b, uint32_t c) { f(a, b, c); });
   }
   template <class F>
   void each_proper(F&& f) const {
@@ -101,16 +106,22 @@ struct Triangles {
 };
 
 // acc_i += (b - a) x (c - a) for each corner i of every triangle (a, b, c): twice the area
-// vector of the triangles at i, for positions pos(j) (F4).
-template <class Pos>
-void add_area_vectors(const Triangles& t, Pos&& pos, F4* acc) {
-  t.each([&](uint32_t a, uint32_t b, uint32_t c) {
+// vector of the triangles at i, for positions pos(j) (F4); turned around for the triangles t
+// where turned(t) (a surface whose triangles are wound either way about their vertices).
+template <class Pos, class Turned>
+void add_area_vectors(const Triangles& t, Pos&& pos, F4* acc, Turned&& turned) {
+  t.each_indexed([&](size_t i, uint32_t a, uint32_t b, uint32_t c) {
     const F4 pa = pos(a);
-    const F4 n = cross3(pos(b) - pa, pos(c) - pa);
+    F4 n = cross3(pos(b) - pa, pos(c) - pa);
+    if (turned(i)) n = F4{} - n;
     acc[a] += n;
     acc[b] += n;
     acc[c] += n;
   });
+}
+template <class Pos>
+void add_area_vectors(const Triangles& t, Pos&& pos, F4* acc) {
+  add_area_vectors(t, pos, acc, [](size_t) { return false; });
 }
 
 // The unit vector of acc_i's x, y, z, or `otherwise` where that is zero (or not finite).
