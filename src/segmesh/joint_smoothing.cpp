@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -146,9 +145,9 @@ void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Prog
                                    : to_d(o[i]) - centre;
   });
   // The filter's zero buffer serves the restoration's normals (fresh memory costs page faults).
-  std::optional<F4Buffer> spare =
-      std::move(run.own_scratch && run.own_scratch->data() == run.scratch ? run.own_scratch
-                                                                          : run.own_d);
+  F4Buffer spare = std::move(run.own_scratch && run.own_scratch->data() == run.scratch
+                                 ? *run.own_scratch
+                                 : *run.own_d);
   run = FilterRun{};
   mesh.normals.clear();
 
@@ -158,7 +157,7 @@ void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Prog
   check[0] = 0;
   // Unit normals of the vertices the restoration moves (zero for the others, which then count as
   // fixed in every part's cubic), in the spare buffer.
-  F4* a = spare->data();
+  F4* a = spare.data();
   auto normal = [&](uint32_t i) { return xyz_d(a[i]); };
   if (options.preserve_volume) {
     // A free vertex's triangles separate its part from the background wound either way, so each
