@@ -2,10 +2,12 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cmath>
 
+#include "segmesh/detail/morton.hpp"
 #include "segmesh/mesh_distance.hpp"
 
 namespace segmesh {
@@ -87,7 +89,8 @@ OrderedTriangleTree::OrderedTriangleTree(const Vec3f* pos, const uint32_t* idx, 
 // distance, and the box rejects them at a fraction of the exact test's cost. A caller that only
 // asks whether the distance is at most `enough2` is answered by the first corner or triangle
 // that close: the rest of the leaf is skipped.
-void OrderedTriangleTree::test_leaf(Vec3d p, uint64_t leaf, double& best, double enough2) const {
+void OrderedTriangleTree::test_leaf(Vec3d p, uint64_t leaf, double& best, double enough2,
+                                    size_t* nearest) const {
   for (size_t t = leaf_begin(leaf), end = leaf_begin(leaf + 1); t < end; ++t) {
     const Vec3f fa = pos_[idx_[3 * t]], fb = pos_[idx_[3 * t + 1]], fc = pos_[idx_[3 * t + 2]];
     Box box{{fa.x, fa.y, fa.z}, {fa.x, fa.y, fa.z}};
@@ -98,17 +101,31 @@ void OrderedTriangleTree::test_leaf(Vec3d p, uint64_t leaf, double& best, double
     if (enough2 >= 0) {
       const double corner = std::min({dot(p - a, p - a), dot(p - b, p - b), dot(p - c, p - c)});
       if (corner <= enough2) {
-        best = std::min(best, corner);
+        if (corner < best) {
+          best = corner;
+          if (nearest) *nearest = t;
+        }
         return;
       }
     }
     const Vec3d q = p - closest_point_on_triangle(p, a, b, c);
-    best = std::min(best, dot(q, q));
+    if (dot(q, q) < best) {
+      best = dot(q, q);
+      if (nearest) *nearest = t;
+    }
     if (best <= enough2) return;
   }
 }
 
-double OrderedTriangleTree::nearest2(Vec3d p, double bound2, size_t start, double enough2) const {
+double OrderedTriangleTree::triangle_distance2(Vec3d p, size_t t) const {
+  const Vec3d q = p - closest_point_on_triangle(p, to_double(pos_[idx_[3 * t]]),
+                                                to_double(pos_[idx_[3 * t + 1]]),
+                                                to_double(pos_[idx_[3 * t + 2]]));
+  return dot(q, q);
+}
+
+double OrderedTriangleTree::nearest2(Vec3d p, double bound2, size_t start, double enough2,
+                                     size_t* nearest) const {
   double best = bound2;
   const uint64_t first = (uint64_t{1} << levels_) - 1;
   struct Entry {
@@ -125,7 +142,7 @@ double OrderedTriangleTree::nearest2(Vec3d p, double bound2, size_t start, doubl
       const Entry e = stack[--top];
       if (!(e.distance2 < best)) continue;
       if (e.node >= first) {
-        test_leaf(p, e.node - first, best, enough2);
+        test_leaf(p, e.node - first, best, enough2, nearest);
         if (best <= enough2) return true;
         continue;
       }
@@ -148,7 +165,7 @@ double OrderedTriangleTree::nearest2(Vec3d p, double bound2, size_t start, doubl
   // levels cost one box test, where a walk from the root tests two boxes a level on the way down
   // and more beside it.
   uint64_t node = first + leaf_of(start);
-  test_leaf(p, node - first, best, enough2);
+  test_leaf(p, node - first, best, enough2, nearest);
   if (best <= enough2) return best;
   while (node > 0) {
     const uint64_t sibling = (node & 1) ? node + 1 : node - 1;
@@ -203,6 +220,44 @@ void OrderedTriangleTree::nearest2_group(const Vec3d* p, double* bound2, const s
     }
     if (!left) return;
   }
+}
+
+std::vector<uint32_t> morton_ordered_indices(const Vec3f* pos, const uint32_t* idx, size_t n) {
+  auto centroid = [&](size_t t) {
+    return to_double(pos[idx[3 * t]]) + to_double(pos[idx[3 * t + 1]]) + to_double(pos[idx[3 * t + 2]]);
+  };  // three times the centroid
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  Vec3d lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
+  for (size_t t = 0; t < n; ++t) {
+    const Vec3d c = centroid(t);
+    lo = {std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z)};
+    hi = {std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z)};
+  }
+  // One scale for all three axes (cubic cells), 2^21 cells along the longest.
+  const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+  const double scale = extent > 0 ? double((1 << 21) - 1) / extent : 0.0;
+  auto cell = [&](double c, double l) {
+    return std::clamp<int64_t>(int64_t((c - l) * scale), 0, (1 << 21) - 1);
+  };
+  struct Keyed {
+    uint64_t key;
+    uint32_t t;
+    bool operator<(const Keyed& o) const { return key != o.key ? key < o.key : t < o.t; }
+  };
+  std::vector<Keyed> keyed(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t t = r.begin(); t != r.end(); ++t) {
+      const Vec3d c = centroid(t);
+      keyed[t] = {morton(cell(c.x, lo.x), cell(c.y, lo.y), cell(c.z, lo.z)), uint32_t(t)};
+    }
+  });
+  tbb::parallel_sort(keyed.begin(), keyed.end());
+  std::vector<uint32_t> out(3 * n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t k = r.begin(); k != r.end(); ++k)
+      for (int c = 0; c < 3; ++c) out[3 * k + size_t(c)] = idx[3 * size_t(keyed[k].t) + size_t(c)];
+  });
+  return out;
 }
 
 }  // namespace segmesh

@@ -34,9 +34,13 @@ class OrderedTriangleTree {
   // With `start`, the search begins with the leaf of that triangle (where a caller expects the
   // closest one). As soon as a corner or a triangle at `enough2` or below is found, in the start
   // leaf or anywhere later, that value is returned: a caller that only needs to know whether the
-  // distance exceeds a value skips the rest of the search.
+  // distance exceeds a value skips the rest of the search. With `nearest`, the triangle of the
+  // value returned is written there when one below bound2 was found (else it is left as it is).
   double nearest2(Vec3d p, double bound2 = std::numeric_limits<double>::infinity(),
-                  size_t start = kNoStart, double enough2 = -1) const;
+                  size_t start = kNoStart, double enough2 = -1, size_t* nearest = nullptr) const;
+
+  // The squared distance from p to triangle t, exactly as the searches compute it.
+  double triangle_distance2(Vec3d p, size_t t) const;
 
   // The same for a group of nearby points (count <= kTreeGroup), bound2[k] updated in place and
   // start[k] required: after the start leaves, one walk down the tree collects the leaves near
@@ -57,7 +61,8 @@ class OrderedTriangleTree {
   size_t leaf_begin(uint64_t leaf) const { return (leaf * n_) >> levels_; }
   // The leaf j with leaf_begin(j) <= t < leaf_begin(j + 1).
   uint64_t leaf_of(size_t t) const { return (((uint64_t{t} + 1) << levels_) + n_ - 1) / n_ - 1; }
-  void test_leaf(Vec3d p, uint64_t leaf, double& best, double enough2) const;
+  void test_leaf(Vec3d p, uint64_t leaf, double& best, double enough2,
+                 size_t* nearest = nullptr) const;
 
   const Vec3f* pos_;
   const uint32_t* idx_;
@@ -65,5 +70,10 @@ class OrderedTriangleTree {
   int levels_ = 0;
   std::vector<Box> boxes_;  // complete binary tree in heap order
 };
+
+// The n triangles idx[3t..3t+2] over pos as a new index array in the Morton order of their
+// centroids (ties by triangle id): for a tree over a mesh whose own order is not compact in space
+// (a decimated mesh, or one from a file). Parallel; the same for any thread count.
+std::vector<uint32_t> morton_ordered_indices(const Vec3f* pos, const uint32_t* idx, size_t n);
 
 }  // namespace segmesh
