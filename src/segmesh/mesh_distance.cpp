@@ -5,12 +5,15 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cassert>
 #include <cmath>
 #include <limits>
 #include <optional>
 
+#include "segmesh/detail/deviation_strata.hpp"
+#include "segmesh/detail/ordered_triangle_tree.hpp"
 #include "segmesh/moved_mesh_deviation.hpp"
 #include "segmesh/quality.hpp"
 
@@ -35,9 +38,6 @@ constexpr size_t kMaxLeafTriangles = 8;
 // true one by that much relative (the Gram matrix's largest eigenvalue is below 1 + 1e-6).
 constexpr double kBoxShrink = 1 - 1e-6;
 
-// Samples per block of mesh_deviation's sums: fixed blocks make the mean independent of the
-// number of threads.
-constexpr size_t kSampleBlock = 4096;
 
 double length2(Vec3d v) {
   return dot(v, v);
@@ -328,44 +328,135 @@ Vec3d MeshDistance::closest_point(Vec3d p) const {
 
 namespace {
 
-// The vertices used by a triangle, in index order, then the triangles' centroids.
-std::vector<Vec3d> surface_samples(const TriMesh& mesh) {
-  std::vector<char> used(mesh.positions.size(), 0);
-  for (uint32_t v : mesh.indices) used[v] = 1;
-  std::vector<Vec3d> samples;
-  samples.reserve(mesh.positions.size() + mesh.triangle_count());
-  for (size_t v = 0; v < used.size(); ++v)
-    if (used[v]) samples.push_back(to_double(mesh.positions[v]));
-  for (size_t t = 0; t < mesh.triangle_count(); ++t) {
-    const Vec3d a = to_double(mesh.positions[mesh.indices[3 * t]]);
-    const Vec3d b = to_double(mesh.positions[mesh.indices[3 * t + 1]]);
-    const Vec3d c = to_double(mesh.positions[mesh.indices[3 * t + 2]]);
-    samples.push_back((1.0 / 3.0) * (a + b + c));
+// The samples of one direction: mesh `from`'s vertices used by a triangle (sample v < vertex
+// count) and its triangles' centroids (sample vertex count + t), measured against `to`'s tree.
+struct DirectionSamples {
+  const TriMesh& from;
+  const OrderedTriangleTree& to;
+  std::vector<char> used;
+
+  DirectionSamples(const TriMesh& mesh, const OrderedTriangleTree& target)
+      : from(mesh), to(target), used(mesh.positions.size(), 0) {
+    for (uint32_t v : mesh.indices) used[v] = 1;
   }
-  return samples;
+  size_t count() const { return from.positions.size() + from.triangle_count(); }
+  // Sample s's point; false for a vertex no triangle uses.
+  bool get(size_t s, Vec3d& p) const {
+    const size_t nv = from.positions.size();
+    if (s < nv) {
+      if (!used[s]) return false;
+      p = to_double(from.positions[s]);
+      return true;
+    }
+    const uint32_t* x = &from.indices[3 * (s - nv)];
+    p = (1.0 / 3.0) * (to_double(from.positions[x[0]]) + to_double(from.positions[x[1]]) +
+                       to_double(from.positions[x[2]]));
+    return true;
+  }
+};
+
+// One block's running search: the triangles nearest to the last samples searched bound the next
+// search and start it. Consecutive samples are mostly neighbours on the surface, but a row of
+// the extraction crosses the surface in a few places and the samples alternate between them, so
+// a few recent triangles are kept, the most recent first.
+struct Hint {
+  static constexpr size_t kKept = 8;
+  std::array<size_t, kKept> triangle;
+  size_t kept = 0;
+
+  // The smallest squared distance from p to a kept triangle (it goes first), stopping at the
+  // first at or below `enough2`; infinity when none is kept.
+  double bound2(const OrderedTriangleTree& tree, Vec3d p, double enough2 = -1) {
+    double best = kInf;
+    size_t at = 0;
+    for (size_t k = 0; k < kept; ++k) {
+      const double d2 = tree.triangle_distance2(p, triangle[k]);
+      if (d2 < best) {
+        best = d2;
+        at = k;
+      }
+      if (best <= enough2) break;
+    }
+    if (at > 0) std::rotate(triangle.begin(), triangle.begin() + at, triangle.begin() + at + 1);
+    return best;
+  }
+  // The exact squared distance of p below bound2 (the first kept triangle's); with enough2, a
+  // value at or below it as soon as one shows. The triangle found goes first.
+  double search(const OrderedTriangleTree& tree, Vec3d p, double bound2, double enough2 = -1) {
+    size_t found = kept > 0 ? triangle[0] : OrderedTriangleTree::kNoStart;
+    const double d2 = tree.nearest2(p, bound2, found, enough2, &found);
+    if (found != OrderedTriangleTree::kNoStart && (kept == 0 || found != triangle[0])) {
+      kept = std::min(kept + 1, kKept);
+      std::rotate(triangle.begin(), triangle.begin() + kept - 1, triangle.begin() + kept);
+      triangle[0] = found;
+    }
+    return d2;
+  }
+};
+
+struct DirectionStatistics {
+  std::vector<double> distances;  // of the chosen samples
+  double sum = 0, max = 0;
+};
+
+// The chosen samples of one direction (stratum_chosen), each measured exactly.
+DirectionStatistics measure_chosen(const DirectionSamples& samples, size_t stride) {
+  const size_t n = samples.count();
+  const size_t blocks = (n + kDeviationSampleBlock - 1) / kDeviationSampleBlock;
+  std::vector<std::vector<double>> block_distances(blocks);
+  std::vector<double> block_sum(blocks, 0.0), block_max(blocks, 0.0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t b = r.begin(); b != r.end(); ++b) {
+      Hint hint;
+      double sum = 0, max = 0;
+      std::vector<double>& out = block_distances[b];
+      for (size_t s = b * kDeviationSampleBlock, end = std::min(n, (b + 1) * kDeviationSampleBlock);
+           s < end; ++s) {
+        Vec3d p;
+        if (!stratum_chosen(s, stride) || !samples.get(s, p)) continue;
+        const double d = std::sqrt(hint.search(samples.to, p, hint.bound2(samples.to, p)));
+        out.push_back(d);
+        sum += d;
+        max = std::max(max, d);
+      }
+      block_sum[b] = sum;
+      block_max[b] = max;
+    }
+  });
+  DirectionStatistics stats;
+  for (size_t b = 0; b < blocks; ++b) {
+    stats.sum += block_sum[b];
+    stats.max = std::max(stats.max, block_max[b]);
+    stats.distances.insert(stats.distances.end(), block_distances[b].begin(),
+                           block_distances[b].end());
+  }
+  return stats;
 }
 
-// Distances of `samples` to `target`, written to out[0 ..), and their sum taken over fixed
-// blocks in order.
-double measure(const std::vector<Vec3d>& samples, const MeshDistance& target, double* out) {
-  const size_t n = samples.size();
-  const size_t blocks = (n + kSampleBlock - 1) / kSampleBlock;
-  std::vector<double> block_sum(blocks, 0.0);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t b = r.begin(); b != r.end(); ++b) {
-                        double sum = 0;
-                        for (size_t i = b * kSampleBlock, end = std::min(n, (b + 1) * kSampleBlock);
-                             i < end; ++i) {
-                          out[i] = target.distance(samples[i]);
-                          sum += out[i];
-                        }
-                        block_sum[b] = sum;
-                      }
-                    });
-  double sum = 0;
-  for (double s : block_sum) sum += s;
-  return sum;
+// The largest distance of the samples not chosen, or `largest` when none exceeds it: a sample
+// whose distance to the last nearest triangle is at or below the largest so far cannot raise it,
+// and a search for one that might stops at the first triangle within it.
+double largest_unchosen(const DirectionSamples& samples, size_t stride, double largest) {
+  const size_t n = samples.count();
+  const size_t blocks = (n + kDeviationSampleBlock - 1) / kDeviationSampleBlock;
+  std::vector<double> block_max(blocks, largest);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t b = r.begin(); b != r.end(); ++b) {
+      Hint hint;
+      double max2 = largest * largest;
+      for (size_t s = b * kDeviationSampleBlock, end = std::min(n, (b + 1) * kDeviationSampleBlock);
+           s < end; ++s) {
+        Vec3d p;
+        if (stratum_chosen(s, stride) || !samples.get(s, p)) continue;
+        const double bound2 = hint.bound2(samples.to, p, max2);
+        if (bound2 <= max2) continue;
+        max2 = std::max(max2, hint.search(samples.to, p, bound2, max2));
+      }
+      block_max[b] = std::sqrt(max2);
+    }
+  });
+  for (double d : block_max) largest = std::max(largest, d);
+  return largest;
 }
 
 }  // namespace
@@ -373,29 +464,41 @@ double measure(const std::vector<Vec3d>& samples, const MeshDistance& target, do
 Deviation mesh_deviation(const TriMesh& a, const TriMesh& b) {
   if (a.empty() && b.empty()) return {0, 0, 0};
   if (a.empty() || b.empty()) return {kInf, kInf, kInf};
-  // A mesh and its moved copy: the tree on the triangles' own order, every sample measured.
+  // A mesh and its moved copy: each search bounded by the sample's counterpart.
   if (a.positions.size() == b.positions.size() && a.indices == b.indices) {
     return moved_mesh_deviation(a.positions, b, std::numeric_limits<size_t>::max());
   }
-  std::vector<Vec3d> samples_a, samples_b;
-  std::optional<MeshDistance> index_a, index_b;
-  tbb::parallel_invoke(
-      [&] {
-        samples_a = surface_samples(a);
-        index_a.emplace(a);
-      },
-      [&] {
-        samples_b = surface_samples(b);
-        index_b.emplace(b);
-      });
-  std::vector<double> d(samples_a.size() + samples_b.size());
-  const double sum_ab = measure(samples_a, *index_b, d.data());
-  const double sum_ba = measure(samples_b, *index_a, d.data() + samples_a.size());
+  // Each tree on its mesh's triangles in Morton order when that mesh has no more triangles than
+  // the other (whose samples it serves, three or so per triangle), else in the mesh's own order:
+  // sorting a mesh many times larger than the samples it serves costs more than its searches.
+  std::vector<uint32_t> order_a, order_b;
+  std::optional<OrderedTriangleTree> tree_a, tree_b;
+  auto build = [](const TriMesh& m, size_t other, std::vector<uint32_t>& order,
+                  std::optional<OrderedTriangleTree>& tree) {
+    const size_t n = m.triangle_count();
+    if (n <= other) order = morton_ordered_indices(m.positions.data(), m.indices.data(), n);
+    tree.emplace(m.positions.data(), order.empty() ? m.indices.data() : order.data(), n);
+  };
+  tbb::parallel_invoke([&] { build(a, b.triangle_count(), order_a, tree_a); },
+                       [&] { build(b, a.triangle_count(), order_b, tree_b); });
+  const DirectionSamples ab(a, *tree_b), ba(b, *tree_a);
+  // One stride for both directions, so that the chosen samples keep the directions' proportions
+  // and pool without weights (moved_mesh_deviation's choice when both have the same count).
+  const size_t n = ab.count() + ba.count();
+  const size_t limit = 2 * kDeviationStatisticSamples;
+  const size_t stride = n > limit ? (n + limit - 1) / limit : 1;
+  DirectionStatistics sab = measure_chosen(ab, stride);
+  DirectionStatistics sba = measure_chosen(ba, stride);
   Deviation dev;
   // One addition of two partial sums is commutative, which makes the mean exactly symmetric.
-  dev.mean = (sum_ab + sum_ba) / double(d.size());
-  dev.hausdorff = *std::max_element(d.begin(), d.end());
-  dev.p95 = percentile(d, 0.95);
+  dev.mean = (sab.sum + sba.sum) / double(sab.distances.size() + sba.distances.size());
+  dev.hausdorff = std::max(sab.max, sba.max);
+  if (stride > 1) {
+    dev.hausdorff = largest_unchosen(ab, stride, dev.hausdorff);
+    dev.hausdorff = largest_unchosen(ba, stride, dev.hausdorff);
+  }
+  sab.distances.insert(sab.distances.end(), sba.distances.begin(), sba.distances.end());
+  dev.p95 = percentile(sab.distances, 0.95);
   return dev;
 }
 

@@ -11,6 +11,7 @@
 #include <limits>
 #include <optional>
 
+#include "segmesh/detail/deviation_strata.hpp"
 #include "segmesh/detail/ordered_triangle_tree.hpp"
 #include "segmesh/quality.hpp"
 
@@ -20,18 +21,7 @@ namespace {
 
 constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
 
-// Samples per block of the sums and lists: fixed blocks make the results independent of the
-// number of threads.
-constexpr size_t kSampleBlock = 4096;
-
-// A fixed pseudo-random number for stratum j.
-uint64_t stratum_hash(uint64_t j) {
-  uint64_t h = (j + 1) * 0x9E3779B97F4A7C15ull;
-  h ^= h >> 29;
-  h *= 0xBF58476D1CE4E5B9ull;
-  h ^= h >> 32;
-  return h;
-}
+constexpr size_t kSampleBlock = kDeviationSampleBlock;
 
 // The samples of the two surfaces: the mesh's triangles over the positions `before` and `after`.
 // Sample s < vertex count is vertex s (when a triangle uses it), sample vertex count + t the
@@ -48,7 +38,7 @@ struct Samples {
 
   size_t vertices() const { return before.size(); }
   size_t count() const { return before.size() + idx.size() / 3; }
-  bool chosen(size_t s) const { return stride == 1 || s % stride == stratum_hash(s / stride) % stride; }
+  bool chosen(size_t s) const { return stratum_chosen(s, stride); }
 
   // Sample s's point on its surface, its counterpart's distance (which bounds its own: the
   // counterpart lies on the other surface) and the triangle that starts its search; false for a
