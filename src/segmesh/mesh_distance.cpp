@@ -355,41 +355,19 @@ struct DirectionSamples {
   }
 };
 
-// One block's running search: the triangles nearest to the last samples searched bound the next
-// search and start it. Consecutive samples are mostly neighbours on the surface, but a row of
-// the extraction crosses the surface in a few places and the samples alternate between them, so
-// a few recent triangles are kept, the most recent first.
+// One block's running search: its recent nearest triangles bound and start every search.
 struct Hint {
-  static constexpr size_t kKept = 8;
-  std::array<size_t, kKept> triangle;
-  size_t kept = 0;
+  RecentTriangles recent;
 
-  // The smallest squared distance from p to a kept triangle (it goes first), stopping at the
-  // first at or below `enough2`; infinity when none is kept.
   double bound2(const OrderedTriangleTree& tree, Vec3d p, double enough2 = -1) {
-    double best = kInf;
-    size_t at = 0;
-    for (size_t k = 0; k < kept; ++k) {
-      const double d2 = tree.triangle_distance2(p, triangle[k]);
-      if (d2 < best) {
-        best = d2;
-        at = k;
-      }
-      if (best <= enough2) break;
-    }
-    if (at > 0) std::rotate(triangle.begin(), triangle.begin() + at, triangle.begin() + at + 1);
-    return best;
+    return recent.bound2(tree, p, enough2);
   }
-  // The exact squared distance of p below bound2 (the first kept triangle's); with enough2, a
+  // The exact squared distance of p below bound2 (the first recent triangle's); with enough2, a
   // value at or below it as soon as one shows. The triangle found goes first.
   double search(const OrderedTriangleTree& tree, Vec3d p, double bound2, double enough2 = -1) {
-    size_t found = kept > 0 ? triangle[0] : OrderedTriangleTree::kNoStart;
+    size_t found = recent.first();
     const double d2 = tree.nearest2(p, bound2, found, enough2, &found);
-    if (found != OrderedTriangleTree::kNoStart && (kept == 0 || found != triangle[0])) {
-      kept = std::min(kept + 1, kKept);
-      std::rotate(triangle.begin(), triangle.begin() + kept - 1, triangle.begin() + kept);
-      triangle[0] = found;
-    }
+    recent.add(found);
     return d2;
   }
 };

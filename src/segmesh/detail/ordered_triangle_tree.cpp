@@ -222,6 +222,30 @@ void OrderedTriangleTree::nearest2_group(const Vec3d* p, double* bound2, const s
   }
 }
 
+double RecentTriangles::bound2(const OrderedTriangleTree& tree, Vec3d p, double enough2) {
+  double best = std::numeric_limits<double>::infinity();
+  size_t at = 0;
+  for (size_t k = 0; k < kept_; ++k) {
+    const double d2 = tree.triangle_distance2(p, triangle_[k]);
+    if (d2 < best) {
+      best = d2;
+      at = k;
+    }
+    if (best <= enough2) break;
+  }
+  if (at > 0) std::rotate(triangle_.begin(), triangle_.begin() + at, triangle_.begin() + at + 1);
+  return best;
+}
+
+void RecentTriangles::add(size_t t) {
+  if (t == OrderedTriangleTree::kNoStart || (kept_ > 0 && triangle_[0] == t)) return;
+  const size_t at = size_t(std::find(triangle_.begin(), triangle_.begin() + kept_, t) - triangle_.begin());
+  if (at == kept_) kept_ = std::min(kept_ + 1, kKept);
+  const size_t last = std::min(at, kKept - 1);
+  std::rotate(triangle_.begin(), triangle_.begin() + last, triangle_.begin() + last + 1);
+  triangle_[0] = t;
+}
+
 std::vector<uint32_t> morton_ordered_indices(const Vec3f* pos, const uint32_t* idx, size_t n) {
   auto centroid = [&](size_t t) {
     return to_double(pos[idx[3 * t]]) + to_double(pos[idx[3 * t + 1]]) + to_double(pos[idx[3 * t + 2]]);

@@ -117,5 +117,40 @@ TEST(OrderedTriangleTree, MortonOrderIsAPermutationOfTheTrianglesAndCompactInSpa
   EXPECT_LT(mean_step(sorted), 0.25 * mean_step(idx));
 }
 
+TEST(RecentTriangles, KeepsTheLastEightFoundAndBoundsByTheNearest) {
+  const Soup s = soup(64, 7);
+  const OrderedTriangleTree tree(s.pos.data(), s.idx.data(), s.n);
+  RecentTriangles recent;
+  const Vec3d p{0.5, -1, 2};
+  EXPECT_EQ(recent.first(), OrderedTriangleTree::kNoStart);
+  EXPECT_EQ(recent.bound2(tree, p), std::numeric_limits<double>::infinity());
+  for (size_t t = 0; t < 12; ++t) recent.add(t);
+  recent.add(OrderedTriangleTree::kNoStart);  // ignored
+  EXPECT_EQ(recent.first(), 11u);
+  // The nearest of triangles 4 to 11 (0 to 3 dropped out), which then comes first.
+  double nearest = std::numeric_limits<double>::infinity();
+  size_t which = 0;
+  for (size_t t = 4; t < 12; ++t)
+    if (tree.triangle_distance2(p, t) < nearest) {
+      nearest = tree.triangle_distance2(p, t);
+      which = t;
+    }
+  EXPECT_EQ(recent.bound2(tree, p), nearest);
+  EXPECT_EQ(recent.first(), which);
+  // With a value to reach, the first kept triangle within it answers.
+  const double far = recent.bound2(tree, p, std::numeric_limits<double>::max());
+  EXPECT_EQ(far, nearest);
+  // A triangle added again moves to the front without a second copy: after seven new ones it is
+  // kept (and found, which moves it first again), after eight more it is gone.
+  const Vec3d corner_of_5 = to_double(s.pos[s.idx[3 * 5]]);
+  recent.add(5);
+  recent.add(5);
+  for (size_t t = 20; t < 27; ++t) recent.add(t);
+  EXPECT_EQ(recent.bound2(tree, corner_of_5, 0), 0);
+  EXPECT_EQ(recent.first(), 5u);
+  for (size_t t = 30; t < 38; ++t) recent.add(t);
+  EXPECT_GT(recent.bound2(tree, corner_of_5, 0), 0);
+}
+
 }  // namespace
 }  // namespace segmesh
