@@ -47,7 +47,11 @@ void OrderedTriangleTree::Box::merge(const Box& o) {
   }
 }
 
-double OrderedTriangleTree::Box::distance2(Vec3d p) const {
+namespace {
+
+// A lower bound of the squared distance from p to the box [lo, hi] (float or double bounds).
+template <class T>
+inline double box_distance2(const T* lo, const T* hi, Vec3d p) {
   const double q[3] = {p.x, p.y, p.z};
   double d2 = 0;
   for (int a = 0; a < 3; ++a) {
@@ -55,6 +59,12 @@ double OrderedTriangleTree::Box::distance2(Vec3d p) const {
     d2 += d * d;
   }
   return d2 * kBoxShrink;
+}
+
+}  // namespace
+
+double OrderedTriangleTree::Box::distance2(Vec3d p) const {
+  return box_distance2(lo, hi, p);
 }
 
 OrderedTriangleTree::OrderedTriangleTree(const Vec3f* pos, const uint32_t* idx, size_t n)
@@ -85,18 +95,45 @@ OrderedTriangleTree::OrderedTriangleTree(const Vec3f* pos, const uint32_t* idx, 
   }
 }
 
+// In double, converted once for all the points that test them; distance2 as Box::distance2.
+struct OrderedTriangleTree::LeafBoxes {
+  struct Double {
+    double lo[3], hi[3];
+    double distance2(Vec3d p) const { return box_distance2(lo, hi, p); }
+  };
+  Double box[kOrderedLeaf];
+};
+
+void OrderedTriangleTree::leaf_boxes(uint64_t leaf, LeafBoxes& out) const {
+  for (size_t t = leaf_begin(leaf), end = leaf_begin(leaf + 1), k = 0; t < end; ++t, ++k) {
+    const Vec3f fa = pos_[idx_[3 * t]];
+    Box box{{fa.x, fa.y, fa.z}, {fa.x, fa.y, fa.z}};
+    box.add(pos_[idx_[3 * t + 1]]);
+    box.add(pos_[idx_[3 * t + 2]]);
+    for (int a = 0; a < 3; ++a) {
+      out.box[k].lo[a] = double(box.lo[a]);
+      out.box[k].hi[a] = double(box.hi[a]);
+    }
+  }
+}
+
 // Each triangle's own box is tried first: most triangles of a leaf are farther than the best
 // distance, and the box rejects them at a fraction of the exact test's cost. A caller that only
 // asks whether the distance is at most `enough2` is answered by the first corner or triangle
-// that close: the rest of the leaf is skipped.
+// that close: the rest of the leaf is skipped. With `boxes` (the leaf's, from leaf_boxes), the
+// boxes are read instead of made: the same boxes, the same answer.
 void OrderedTriangleTree::test_leaf(Vec3d p, uint64_t leaf, double& best, double enough2,
-                                    size_t* nearest) const {
-  for (size_t t = leaf_begin(leaf), end = leaf_begin(leaf + 1); t < end; ++t) {
+                                    size_t* nearest, const LeafBoxes* boxes) const {
+  const size_t begin = leaf_begin(leaf);
+  for (size_t t = begin, end = leaf_begin(leaf + 1); t < end; ++t) {
+    if (boxes && !(boxes->box[t - begin].distance2(p) < best)) continue;
     const Vec3f fa = pos_[idx_[3 * t]], fb = pos_[idx_[3 * t + 1]], fc = pos_[idx_[3 * t + 2]];
-    Box box{{fa.x, fa.y, fa.z}, {fa.x, fa.y, fa.z}};
-    box.add(fb);
-    box.add(fc);
-    if (!(box.distance2(p) < best)) continue;
+    if (!boxes) {
+      Box box{{fa.x, fa.y, fa.z}, {fa.x, fa.y, fa.z}};
+      box.add(fb);
+      box.add(fc);
+      if (!(box.distance2(p) < best)) continue;
+    }
     const Vec3d a = to_double(fa), b = to_double(fb), c = to_double(fc);
     if (enough2 >= 0) {
       const double corner = std::min({dot(p - a, p - a), dot(p - b, p - b), dot(p - c, p - c)});
@@ -182,9 +219,13 @@ void OrderedTriangleTree::nearest2_group(const Vec3d* p, double* bound2, const s
   bool active[kTreeGroup];
   bool any = false;
   Box region{{kInfF, kInfF, kInfF}, {-kInfF, -kInfF, -kInfF}};
+  // Neighbouring points often start in the same leaf: its boxes are made once.
+  LeafBoxes boxes;
+  uint64_t boxes_leaf = ~uint64_t{0};
   for (size_t k = 0; k < count; ++k) {
     start_leaf[k] = leaf_of(start[k]);
-    test_leaf(p[k], start_leaf[k], bound2[k], enough2);
+    if (start_leaf[k] != boxes_leaf) leaf_boxes(boxes_leaf = start_leaf[k], boxes);
+    test_leaf(p[k], start_leaf[k], bound2[k], enough2, nullptr, &boxes);
     active[k] = bound2[k] > enough2;
     if (!active[k]) continue;
     any = true;
@@ -213,7 +254,8 @@ void OrderedTriangleTree::nearest2_group(const Vec3d* p, double* bound2, const s
     bool left = false;
     for (size_t k = 0; k < count; ++k) {
       if (active[k] && leaf != start_leaf[k] && boxes_[node].distance2(p[k]) < bound2[k]) {
-        test_leaf(p[k], leaf, bound2[k], enough2);
+        if (leaf != boxes_leaf) leaf_boxes(boxes_leaf = leaf, boxes);
+        test_leaf(p[k], leaf, bound2[k], enough2, nullptr, &boxes);
         active[k] = bound2[k] > enough2;
       }
       left = left || active[k];

@@ -62,8 +62,11 @@ class OrderedTriangleTree {
   size_t leaf_begin(uint64_t leaf) const { return (leaf * n_) >> levels_; }
   // The leaf j with leaf_begin(j) <= t < leaf_begin(j + 1).
   uint64_t leaf_of(size_t t) const { return (((uint64_t{t} + 1) << levels_) + n_ - 1) / n_ - 1; }
+  // The boxes of one leaf's triangles, made once for all the points of a group that test it.
+  struct LeafBoxes;
+  void leaf_boxes(uint64_t leaf, LeafBoxes& out) const;
   void test_leaf(Vec3d p, uint64_t leaf, double& best, double enough2,
-                 size_t* nearest = nullptr) const;
+                 size_t* nearest = nullptr, const LeafBoxes* boxes = nullptr) const;
 
   const Vec3f* pos_;
   const uint32_t* idx_;
