@@ -63,6 +63,26 @@ CellClass classify(const uint32_t* m, const McTable& table, bool joined_by_winne
   return k;
 }
 
+// The class of the last cell classified: the cells of a stretch where no row of the four
+// changes (a contact or a surface along x) all have the same corners, so each stretch is
+// classified once.
+class LastCell {
+ public:
+  const CellClass& classify(const uint32_t* m, const McTable& table, bool joined_by_winner) {
+    if (!valid_ || !std::equal(m, m + 8, m_)) {
+      std::copy(m, m + 8, m_);
+      class_ = segmesh::classify(m, table, joined_by_winner);
+      valid_ = true;
+    }
+    return class_;
+  }
+
+ private:
+  uint32_t m_[8] = {};
+  CellClass class_;
+  bool valid_ = false;
+};
+
 // ---- the rows ----------------------------------------------------------------------------------
 
 // Vertex kinds of a row, in the order their ids follow (row_passes.hpp): cut x-, y-, z-edges
@@ -131,8 +151,9 @@ class Extractor {
     if (j + 1 < ny_) row_edges(1, j, k, [&](int64_t) { ++t.vertices[kEdgeY]; });
     if (k + 1 < nz_) row_edges(2, j, k, [&](int64_t) { ++t.vertices[kEdgeZ]; });
     if (j + 1 >= ny_ || k + 1 >= nz_) return t;
+    LastCell last;
     rows_.cells(j, k, [&](int64_t, const uint32_t* m) {
-      const CellClass cc = classify(m, table_, joined_by_winner_);
+      const CellClass& cc = last.classify(m, table_, joined_by_winner_);
       t.triangles += uint64_t(cc.triangles);
       if (cc.kind != CellKind::junction) return;
       ++t.vertices[kCell];
@@ -168,8 +189,9 @@ class Extractor {
     uint32_t face_y[2] = {first_id(ids_, r, kFaceY), first_id(ids_, row_index(j + 1, k), kFaceY)};
     uint32_t face_z[2] = {first_id(ids_, r, kFaceZ), first_id(ids_, row_index(j, k + 1), kFaceZ)};
     uint32_t centre = first_id(ids_, r, kCell);
+    LastCell last;
     rows_.cells(j, k, [&](int64_t i, const uint32_t* m) {
-      const CellClass cc = classify(m, table_, joined_by_winner_);
+      const CellClass& cc = last.classify(m, table_, joined_by_winner_);
       if (cc.kind == CellKind::empty) return;
       uint32_t id[19];
       cut_edge_ids(edges, cc.cut, id);
