@@ -233,8 +233,11 @@ void OrderedTriangleTree::nearest2_group(const Vec3d* p, double* bound2, const s
     const double r = std::sqrt(bound2[k]) * (1 + 1e-9);
     const double c[3] = {p[k].x, p[k].y, p[k].z};
     for (int a = 0; a < 3; ++a) {
-      region.lo[a] = std::min(region.lo[a], std::nextafter(float(c[a] - r), -kInfF));
-      region.hi[a] = std::max(region.hi[a], std::nextafter(float(c[a] + r), kInfF));
+      // Widened by a millionth before rounding to float (whose rounding is below 1e-7
+      // relative), so the float bounds hold the ball.
+      const double lo = c[a] - r, hi = c[a] + r;
+      region.lo[a] = std::min(region.lo[a], float(lo - 1e-6 * std::abs(lo) - 1e-30));
+      region.hi[a] = std::max(region.hi[a], float(hi + 1e-6 * std::abs(hi) + 1e-30));
     }
   }
   if (!any) return;
