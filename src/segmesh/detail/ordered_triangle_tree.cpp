@@ -254,9 +254,11 @@ void OrderedTriangleTree::nearest2_group(const Vec3d* p, double* bound2, const s
       continue;
     }
     const uint64_t leaf = node - first;
+    const Box& nb = boxes_[node];
+    const double lo[3] = {nb.lo[0], nb.lo[1], nb.lo[2]}, hi[3] = {nb.hi[0], nb.hi[1], nb.hi[2]};
     bool left = false;
     for (size_t k = 0; k < count; ++k) {
-      if (active[k] && leaf != start_leaf[k] && boxes_[node].distance2(p[k]) < bound2[k]) {
+      if (active[k] && leaf != start_leaf[k] && box_distance2(lo, hi, p[k]) < bound2[k]) {
         if (leaf != boxes_leaf) leaf_boxes(boxes_leaf = leaf, boxes);
         test_leaf(p[k], leaf, bound2[k], enough2, nullptr, &boxes);
         active[k] = bound2[k] > enough2;
