@@ -23,6 +23,11 @@ constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
 
 constexpr size_t kSampleBlock = kDeviationSampleBlock;
 
+// Chosen samples up to this many ids apart are searched in groups of kTreeGroup (one walk for
+// the group: they are still near each other on the surface); farther apart, one by one
+// (docs/PERFORMANCE.md).
+constexpr size_t kGroupStride = 16;
+
 // The samples of the two surfaces: the mesh's triangles over the positions `before` and `after`.
 // Sample s < vertex count is vertex s (when a triangle uses it), sample vertex count + t the
 // centroid of triangle t; `forward` measures the samples of `before` against `after`, otherwise
@@ -71,8 +76,9 @@ struct Statistics {
 };
 
 // The chosen samples of one direction, each measured exactly against `target`, searched in
-// groups of kTreeGroup consecutive ones (close together: the samples follow the vertex and
-// triangle order), each below its counterpart's distance and starting at its start leaf.
+// groups of kTreeGroup consecutive chosen ones up to a stride of kGroupStride (close together:
+// the samples follow the vertex and triangle order), each below its counterpart's distance and
+// starting at its start leaf.
 Statistics measure_statistics(const Samples& samples, bool forward, const OrderedTriangleTree& target) {
   const size_t n = samples.count();
   const size_t blocks = (n + kSampleBlock - 1) / kSampleBlock;
@@ -87,7 +93,7 @@ Statistics measure_statistics(const Samples& samples, bool forward, const Ordere
       std::vector<double>& out = block_distances[b];
       size_t count = 0;
       auto flush = [&] {
-        if (samples.stride == 1) {
+        if (samples.stride <= kGroupStride) {
           target.nearest2_group(p, best2, start, count);
         } else {
           for (size_t k = 0; k < count; ++k) best2[k] = target.nearest2(p[k], best2[k], start[k]);

@@ -13,9 +13,10 @@
 //   triangle's centroid) whose distance bounds its own, and a triangle at that distance: the
 //   search starts with the leaf holding that triangle, which usually holds the closest one too,
 //   and then looks only at leaves nearer than the best distance so far. When every sample is
-//   measured, samples are searched in groups of 16 consecutive ones (close together, as the
-//   samples follow the vertex and triangle order): one walk down the tree finds the leaves near
-//   the whole group (16 % faster than a walk per sample on the phantom).
+//   measured, or every few (a stride up to 16), samples are searched in groups of 16 (close
+//   together, as the samples follow the vertex and triangle order): one walk down the tree finds
+//   the leaves near the whole group (16 % faster than a walk per sample on the phantom), and a
+//   leaf's triangle boxes are made once for all of them.
 // - The sample count. The mean and the 95th percentile are statistics of the sample distribution:
 //   above `statistic_samples` samples in one direction they are taken over a stratified subset
 //   of about that many: one sample in every stratum of `stride` consecutive ids (neighbours on
