@@ -304,6 +304,7 @@ class Collapser {
     // The triangles on the edge die; their third corners (and v) hold them in their lists.
     const ListPool::Lease apexes_lease = m_.pool().take();
     std::vector<uint32_t>& apexes = *apexes_lease;
+    m_.tris.reserve(v, uint32_t(m_.tris[u].size()));  // no list moves in the loop
     for (uint32_t t : m_.tris[u]) {
       if (!m_.alive_tri[t]) continue;
       uint32_t* i = &m_.s.mesh.indices[3 * size_t(t)];
@@ -315,9 +316,9 @@ class Collapser {
       }
       for (int k = 0; k < 3; ++k)
         if (i[k] == u) i[k] = v;
-      m_.tris[v].push_back(t);
+      m_.tris.push_back(v, t);
     }
-    std::vector<uint32_t>().swap(m_.tris[u]);
+    m_.tris.clear(u);
     m_.alive_vertex[u] = 0;
     ++version_[u];
     ++version_[v];
@@ -454,6 +455,9 @@ class Collapser {
           for (uint32_t t : m_.tris[w])
             if (m_.alive_tri[t])
               for (int k = 0; k < 3; ++k) mark[m_.s.mesh.indices[3 * size_t(t) + size_t(k)]] = round;
+        // The collapse adds u's triangles to v's list: room made here, as lists move only
+        // when no other thread reads them.
+        m_.tris.reserve(c.keep, uint32_t(m_.tris[c.remove].size()));
         taken.push_back(c);
         owner.push_back(x);
         lost_start.push_back(uint32_t(lost.size()));

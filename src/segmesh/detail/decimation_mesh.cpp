@@ -17,6 +17,36 @@ constexpr double kPlaneWeight = 1.0 / 3;
 constexpr double kInfinityShift = std::numeric_limits<double>::infinity();
 }  // namespace
 
+// Room for two more triangles than a vertex starts with: a collapse into it adds the other
+// vertex's before the dead ones are pruned.
+void VertexTriangles::build(size_t nv, const std::vector<uint32_t>& indices, size_t nt) {
+  constexpr uint32_t kSlack = 4;
+  head_.assign(nv, Head{});
+  for (size_t k = 0; k < 3 * nt; ++k) ++head_[indices[k]].cap;
+  uint32_t start = 0;
+  for (Head& h : head_) {
+    h.start = start;
+    h.cap += kSlack;
+    start += h.cap;
+  }
+  data_.assign(start, 0);
+  for (uint32_t t = 0; t < nt; ++t)
+    for (int c = 0; c < 3; ++c) {
+      Head& h = head_[indices[3 * size_t(t) + size_t(c)]];
+      data_[h.start + h.size++] = t;
+    }
+}
+
+void VertexTriangles::move(uint32_t v, uint32_t need) {
+  Head& h = head_[v];
+  const uint32_t cap = std::max(need, 2 * h.cap);
+  const size_t start = data_.size();
+  data_.resize(start + cap);
+  std::copy_n(data_.begin() + h.start, h.size, data_.begin() + ptrdiff_t(start));
+  h.start = uint32_t(start);
+  h.cap = cap;
+}
+
 DecimationMesh::DecimationMesh(LabelledSurface& surface) : s(surface) {
   const size_t nv = s.mesh.positions.size(), nt = s.sides.size();
   pos.resize(nv);
@@ -26,10 +56,8 @@ DecimationMesh::DecimationMesh(LabelledSurface& surface) : s(surface) {
   for (uint32_t v : s.junction_vertices) junction_vertex[v] = 1;
   quadric.resize(nv);
   std::vector<char> has_witness(nv, 0);
-  witnessed.resize(nt);
-  witness_reach.assign(nt, 0.0);
-  witness_offset.assign(nt, 0.0);
-  tris.resize(nv);
+  witnesses = std::vector<TriangleWitnesses>(nt);
+  tris.build(nv, s.mesh.indices, nt);
   alive_tri.assign(nt, 1);
   alive_vertex.assign(nv, 1);
   for (uint32_t t = 0; t < nt; ++t) {
@@ -43,10 +71,9 @@ DecimationMesh::DecimationMesh(LabelledSurface& surface) : s(surface) {
       for (int c = 0; c < 3; ++c) quadric[i[c]] += q;
     }
     for (int c = 0; c < 3; ++c) {
-      tris[i[c]].push_back(t);
       if (!has_witness[i[c]]) {  // a corner of its witness: distance 0
         has_witness[i[c]] = 1;
-        witnessed[t].push_back({s.mesh.positions[i[c]], 0.0f});
+        witnesses[t].push_back({s.mesh.positions[i[c]], 0.0f});
       }
     }
   }
@@ -99,7 +126,7 @@ double DecimationMesh::rho(uint32_t t) const {
 
 
 // Witnesses (decimation.hpp). Every original vertex keeps a witness, a live triangle within
-// the bound; witnessed lists them per triangle. A change (collapse, flip, move) that alters
+// the bound; witnesses lists them per triangle. A change (collapse, flip, move) that alters
 // `changed` triangles needs a new witness for every original vertex those witness. Cheapest
 // first: the same triangle when its distance bound plus the triangle's `shift` (how far its one
 // moved corner goes; infinity for a triangle removed or replaced) stays within the limit; else
@@ -118,15 +145,16 @@ bool DecimationMesh::rewitness(std::span<const uint32_t> changed, double limit2,
   bool far = false;
   for (uint32_t t : changed) {
     const double moved = shift(t);
-    if (moved < kInfinityShift && witness_reach[t] + moved <= limit) {
+    const TriangleWitnesses& tw = witnesses[t];
+    if (moved < kInfinityShift && tw.reach + moved <= limit) {
       changed_out.push_back({t, true, moved});
       continue;
     }
     changed_out.push_back({t, false, 0.0});
-    const double offset = witness_offset[t];
+    const double offset = tw.offset;
     const FanTriangle* own = nullptr;  // t as it will be, found when first needed
     bool own_looked = false;
-    for (const auto& [original, distance_before] : witnessed[t]) {
+    for (const auto& [original, distance_before] : tw) {
       const double bound = double(distance_before) + offset + moved;
       if (moved < kInfinityShift && bound <= limit) {
         pending.push_back({original, t, bound});
@@ -166,21 +194,22 @@ void DecimationMesh::commit_witnesses() {
   const DecimationScratch& sc = scratch();
   for (const ChangedTriangle& c : sc.pending_changed) {
     if (c.whole) {
-      witness_offset[c.t] += c.shift;
-      witness_reach[c.t] += c.shift;
+      witnesses[c.t].offset += c.shift;
+      witnesses[c.t].reach += c.shift;
     } else {
-      witnessed[c.t].clear();
-      witness_offset[c.t] = 0;
-      witness_reach[c.t] = 0;
+      witnesses[c.t].clear();
+      witnesses[c.t].offset = 0;
+      witnesses[c.t].reach = 0;
     }
   }
   // Entries relative to the offset, rounded up to float: their bounds stay upper bounds.
   for (const PendingWitness& w : sc.pending) {
-    const double relative = w.distance - witness_offset[w.t];
+    TriangleWitnesses& tw = witnesses[w.t];
+    const double relative = w.distance - tw.offset;
     float d = float(relative);
     if (double(d) < relative) d = std::nextafter(d, std::numeric_limits<float>::infinity());
-    witnessed[w.t].push_back({w.position, d});
-    witness_reach[w.t] = std::max(witness_reach[w.t], w.distance);
+    tw.push_back({w.position, d});
+    tw.reach = std::max(tw.reach, w.distance);
   }
 }
 
@@ -336,9 +365,7 @@ bool DecimationMesh::crosses_nearby(uint32_t u, uint32_t v, const Vec3d& positio
 }
 
 void DecimationMesh::prune(uint32_t v) {
-  auto& list = tris[v];
-  list.erase(std::remove_if(list.begin(), list.end(), [&](uint32_t t) { return !alive_tri[t]; }),
-             list.end());
+  tris.erase_if(v, [&](uint32_t t) { return !alive_tri[t]; });
 }
 
 void DecimationMesh::compact() {

@@ -6,16 +6,19 @@
 // decimation_passes.cpp only.
 //
 // Witnesses. Every original vertex keeps a witness, a live triangle within the bound;
-// `witnessed` lists them per triangle. A change (a collapse, a flip, a vertex moved) that alters
+// `witnesses` lists them per triangle. A change (a collapse, a flip, a vertex moved) that alters
 // some triangles needs a new witness for every original vertex those witness: among the triangles
 // near the change as they will be, else among those one ring further. The checks below find
 // them and keep them in this thread's scratch (`pending`); commit_witnesses makes them the witnesses once the caller
 // makes the change.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstdlib>
 #include <deque>
+#include <new>
 #include <span>
 #include <utility>
 #include <vector>
@@ -68,6 +71,48 @@ class ListPool {
   std::vector<List*> free_;
 };
 
+// The live triangles of every vertex in one pooled array, each vertex's list a run of it with
+// room to grow (a list that outgrows its room moves to the end, with twice the room). Built in
+// vertex order, so the lists of neighbouring vertices share cache lines; per-vertex vectors were
+// millions of small heap blocks, a miss for the header and another for the block. A list keeps
+// its order through push_back, erase and erase_if. Only reserve and push_back may move lists
+// (and so invalidate every span of the pool): the parallel rounds reserve before they collapse.
+class VertexTriangles {
+ public:
+  // The triangles of `indices` (nt triangles) per corner, in triangle order.
+  void build(size_t nv, const std::vector<uint32_t>& indices, size_t nt);
+  std::span<const uint32_t> operator[](uint32_t v) const {
+    return {data_.data() + head_[v].start, head_[v].size};
+  }
+  // Room for `more` entries in v's list without a move.
+  void reserve(uint32_t v, uint32_t more) {
+    if (head_[v].size + more > head_[v].cap) move(v, head_[v].size + more);
+  }
+  void push_back(uint32_t v, uint32_t t) {
+    reserve(v, 1);
+    Head& h = head_[v];
+    data_[h.start + h.size++] = t;
+  }
+  template <class Pred>
+  void erase_if(uint32_t v, Pred&& pred) {
+    Head& h = head_[v];
+    uint32_t* b = data_.data() + h.start;
+    h.size = uint32_t(std::remove_if(b, b + h.size, pred) - b);
+  }
+  void erase(uint32_t v, uint32_t t) {
+    erase_if(v, [t](uint32_t x) { return x == t; });
+  }
+  void clear(uint32_t v) { head_[v].size = 0; }
+
+ private:
+  struct Head {
+    uint32_t start = 0, size = 0, cap = 0;
+  };
+  void move(uint32_t v, uint32_t need);
+  std::vector<Head> head_;
+  std::vector<uint32_t> data_;
+};
+
 // A triangle of a witness check as it will be, and its box.
 struct FanTriangle {
   uint32_t t;
@@ -81,6 +126,36 @@ struct Witnessed {
   Vec3f position;
   float distance;
 };
+
+// Per triangle, the original vertices it witnesses (Witnessed) and the bounds of their distance
+// (DecimationMesh::witnesses), in 32 bytes: the common check reads `reach` only, and the rest
+// needs the offset and the list's header, on the same cache line (they were three arrays, a
+// miss each).
+class alignas(32) TriangleWitnesses {
+ public:
+  double reach = 0, offset = 0;
+  TriangleWitnesses() = default;
+  TriangleWitnesses(const TriangleWitnesses&) = delete;
+  TriangleWitnesses& operator=(const TriangleWitnesses&) = delete;
+  ~TriangleWitnesses() { std::free(data_); }
+  const Witnessed* begin() const { return data_; }
+  const Witnessed* end() const { return data_ + size_; }
+  void clear() { size_ = 0; }
+  void push_back(const Witnessed& w) {
+    if (size_ == cap_) {
+      cap_ = cap_ == 0 ? 2 : 2 * cap_;
+      void* grown = std::realloc(data_, sizeof(Witnessed) * cap_);
+      if (!grown) throw std::bad_alloc();
+      data_ = static_cast<Witnessed*>(grown);
+    }
+    data_[size_++] = w;
+  }
+
+ private:
+  Witnessed* data_ = nullptr;
+  uint32_t size_ = 0, cap_ = 0;
+};
+static_assert(sizeof(TriangleWitnesses) == 32);
 
 // A new witness found by a check: the original vertex's position, its triangle and an upper
 // bound of its distance to that triangle as it will be.
@@ -118,16 +193,15 @@ struct DecimationMesh {
   std::vector<SmoothRole> role;
   std::vector<char> junction_vertex;  // s.junction_vertices and the vertices they merged into
   std::vector<Quadric> quadric;
-  std::vector<std::vector<uint32_t>> tris;  // per vertex; may hold dead triangles until pruned
+  VertexTriangles tris;  // per vertex; may hold dead triangles until pruned
   std::vector<char> alive_tri, alive_vertex;
   // Per triangle the original vertices it witnesses, with an upper bound of their distance to
-  // it: the entry's distance plus the triangle's witness_offset. A change
+  // it: the entry's distance plus the triangle's offset. A change
   // that moves one corner of a triangle by d moves every point of it by at most d, so a witness
-  // whose bound plus d stays within the limit needs no projection. witness_reach bounds them all
+  // whose bound plus d stays within the limit needs no projection. The reach bounds them all
   // (0 for none): when the reach plus d is within the limit, the change adds d to the offset
   // and the reach and reads no list, the common case.
-  std::vector<std::vector<Witnessed>> witnessed;
-  std::vector<double> witness_reach, witness_offset;
+  std::vector<TriangleWitnesses> witnesses;
   // This thread's scratch.
   static DecimationScratch& scratch() {
     thread_local DecimationScratch here;

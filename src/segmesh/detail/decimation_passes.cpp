@@ -54,10 +54,10 @@ void apply_flip(DecimationMesh& m, uint32_t t1, uint32_t a, uint32_t b, uint32_t
   const auto [new1, new2] = flip_triangles(a, b, c, q);
   std::copy(new1.begin(), new1.end(), &m.s.mesh.indices[3 * size_t(t1)]);
   std::copy(new2.begin(), new2.end(), &m.s.mesh.indices[3 * size_t(q.t2)]);
-  std::erase(m.tris[a], q.t2);
-  std::erase(m.tris[b], t1);
-  m.tris[c].push_back(q.t2);
-  m.tris[q.d].push_back(t1);
+  m.tris.erase(a, q.t2);
+  m.tris.erase(b, t1);
+  m.tris.push_back(c, q.t2);
+  m.tris.push_back(q.d, t1);
 }
 
 bool are_neighbours(const DecimationMesh& m, uint32_t c, uint32_t d) {
