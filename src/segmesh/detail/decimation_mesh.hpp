@@ -103,6 +103,8 @@ class VertexTriangles {
     erase_if(v, [t](uint32_t x) { return x == t; });
   }
   void clear(uint32_t v) { head_[v].size = 0; }
+  void prefetch_head(uint32_t v) const { __builtin_prefetch(&head_[v]); }
+  void prefetch_list(uint32_t v) const { __builtin_prefetch(data_.data() + head_[v].start); }
 
  private:
   struct Head {
@@ -209,6 +211,31 @@ struct DecimationMesh {
   }
   static ListPool& pool() { return scratch().pool; }
 
+  // Prefetches for a collapse of v soon: its position, quadric, role and list's header
+  // (`first`), then its list (`second`, once the header has come), then (`third`) what the
+  // list names, each a candidate later than the one before.
+  void prefetch_first(uint32_t v) const {
+    __builtin_prefetch(&pos[v]);
+    __builtin_prefetch(&quadric[v]);
+    __builtin_prefetch(&role[v]);
+    tris.prefetch_head(v);
+  }
+  void prefetch_second(uint32_t v) const { tris.prefetch_list(v); }
+  // Then its triangles' corners, liveness, sides and witnesses (once the list has come).
+  void prefetch_third(uint32_t v) const {
+    for (uint32_t t : tris[v]) {
+      __builtin_prefetch(&s.mesh.indices[3 * size_t(t)]);
+      __builtin_prefetch(&alive_tri[t]);
+      __builtin_prefetch(&s.sides[t]);
+      __builtin_prefetch(&witnesses[t]);
+    }
+  }
+  // Last (`fourth`), the positions of its triangles' corners.
+  void prefetch_fourth(uint32_t v) const {
+    for (uint32_t t : tris[v])
+      for (int k = 0; k < 3; ++k)
+        __builtin_prefetch(&pos[s.mesh.indices[3 * size_t(t) + size_t(k)]]);
+  }
   bool has(uint32_t t, uint32_t v) const {
     const uint32_t* i = &s.mesh.indices[3 * size_t(t)];
     return i[0] == v || i[1] == v || i[2] == v;

@@ -52,9 +52,14 @@ class CostBuckets {
       : buckets_(bucket(std::numeric_limits<double>::infinity()) + 1), sorted_(buckets_.size()) {}
   // The next candidate, cheapest bucket first; false when none is left. `current(c)`: whether
   // c is still worth taking; `exact(upper_cost, count)`: whether the order within an octave of
-  // `count` candidates of costs below `upper_cost` matters.
+  // `count` candidates of costs below `upper_cost` matters; `ahead(c)`: prefetches what
+  // `current(c)` reads (nothing when not given).
   template <class Current, class Exact>
   bool pop(Candidate& out, Current&& current, Exact&& exact) {
+    return pop(out, current, exact, [](const Candidate&) {});
+  }
+  template <class Current, class Exact, class Ahead>
+  bool pop(Candidate& out, Current&& current, Exact&& exact, Ahead&& ahead) {
     while (first_ < buckets_.size()) {
       std::vector<Candidate>& b = buckets_[first_];
       if (b.empty()) {
@@ -71,7 +76,14 @@ class CostBuckets {
             b.insert(b.end(), buckets_[k].begin(), buckets_[k].end());
             buckets_[k].clear();
           }
-        std::erase_if(b, [&](const Candidate& c) { return !current(c); });
+        // The stale dropped in place, `ahead` asked for a later candidate's data first: the
+        // checks read memory from all over the surface.
+        size_t kept = 0;
+        for (size_t k = 0; k < b.size(); ++k) {
+          if (k + kAheadOfCheck < b.size()) ahead(b[k + kAheadOfCheck]);
+          if (current(b[k])) b[kept++] = b[k];
+        }
+        b.resize(kept);
         // Descending, so that the back, taken first, is the lowest vertex.
         std::sort(b.begin(), b.end(), [](const Candidate& x, const Candidate& y) {
           if (x.keep != y.keep) return x.keep > y.keep;
@@ -85,6 +97,13 @@ class CostBuckets {
       return true;
     }
     return false;
+  }
+  // The candidate that pops `ahead` pops after the next (0: the next), if no push comes between
+  // and the current bucket holds it; nullptr otherwise. For prefetching.
+  const Candidate* peek(size_t ahead) const {
+    if (first_ >= buckets_.size() || !sorted_[first_]) return nullptr;
+    const std::vector<Candidate>& b = buckets_[first_];
+    return ahead < b.size() ? &b[b.size() - 1 - ahead] : nullptr;
   }
   void push(const Candidate& c) {
     const size_t b = bucket(c.cost);
@@ -101,6 +120,7 @@ class CostBuckets {
 
  private:
   static constexpr int kShift = 48;
+  static constexpr size_t kAheadOfCheck = 16;
   static constexpr size_t kPerOctave = 16;
   static constexpr double kLowest = 0x1p-40, kHighest = 0x1p24;  // an octave's first bucket
   static uint64_t base() { return std::bit_cast<uint64_t>(kLowest) >> kShift; }
