@@ -5,6 +5,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -52,8 +53,8 @@ constexpr int64_t kExactOrderShare = 8;
 // How far ahead of the loop's next candidate its prefetches go: the versions (read by the
 // stale candidates' check), the vertices' data and lists' headers, the lists, the triangles
 // the lists name, and their corners' positions.
-constexpr size_t kPrefetchVersions = 8, kPrefetchFirst = 3, kPrefetchSecond = 2, kPrefetchThird = 1,
-                 kPrefetchFourth = 0;
+constexpr size_t kPrefetchVersions = 8;
+constexpr std::array<size_t, 4> kPrefetchAhead{3, 2, 1, 0};  // by DecimationMesh::prefetch stage
 // Surfaces of fewer vertices keep buckets 4.4 % wide throughout: their data stays in cache.
 constexpr size_t kSweepMinVertices = 65536;
 
@@ -99,22 +100,11 @@ class Collapser {
     while (queue_.pop(c, current, exact, ahead)) {
       // The loop waits on memory: the next candidates' data is asked for ahead.
       if (const Candidate* n = queue_.peek(kPrefetchVersions)) ahead(*n);
-      if (const Candidate* n = queue_.peek(kPrefetchFirst)) {
-        m_.prefetch_first(n->remove);
-        m_.prefetch_first(n->keep);
-      }
-      if (const Candidate* n = queue_.peek(kPrefetchSecond)) {
-        m_.prefetch_second(n->remove);
-        m_.prefetch_second(n->keep);
-      }
-      if (const Candidate* n = queue_.peek(kPrefetchThird)) {
-        m_.prefetch_third(n->remove);
-        m_.prefetch_third(n->keep);
-      }
-      if (const Candidate* n = queue_.peek(kPrefetchFourth)) {
-        m_.prefetch_fourth(n->remove);
-        m_.prefetch_fourth(n->keep);
-      }
+      for (int stage = 0; stage < int(kPrefetchAhead.size()); ++stage)
+        if (const Candidate* n = queue_.peek(kPrefetchAhead[size_t(stage)])) {
+          m_.prefetch(stage, n->remove);
+          m_.prefetch(stage, n->keep);
+        }
       if (!current(c)) continue;
       const bool within_error = limit_mm_ > 0 && c.cost <= limit_mm_;
       if (!within_error && !has_budget_) continue;  // never pushed (push_edges)

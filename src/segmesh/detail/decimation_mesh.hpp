@@ -211,30 +211,30 @@ struct DecimationMesh {
   }
   static ListPool& pool() { return scratch().pool; }
 
-  // Prefetches for a collapse of v soon: its position, quadric, role and list's header
-  // (`first`), then its list (`second`, once the header has come), then (`third`) what the
-  // list names, each a candidate later than the one before.
-  void prefetch_first(uint32_t v) const {
-    __builtin_prefetch(&pos[v]);
-    __builtin_prefetch(&quadric[v]);
-    __builtin_prefetch(&role[v]);
-    tris.prefetch_head(v);
-  }
-  void prefetch_second(uint32_t v) const { tris.prefetch_list(v); }
-  // Then its triangles' corners, liveness, sides and witnesses (once the list has come).
-  void prefetch_third(uint32_t v) const {
-    for (uint32_t t : tris[v]) {
-      __builtin_prefetch(&s.mesh.indices[3 * size_t(t)]);
-      __builtin_prefetch(&alive_tri[t]);
-      __builtin_prefetch(&s.sides[t]);
-      __builtin_prefetch(&witnesses[t]);
+  // Prefetches for a collapse of v soon, in stages, each for a candidate nearer than the stage
+  // before, so that what it reads has come: 0, v's position, quadric, role and list header; 1,
+  // its list; 2, its triangles' corners, liveness, sides and witness records; 3, the positions
+  // of those corners.
+  void prefetch(int stage, uint32_t v) const {
+    if (stage == 0) {
+      __builtin_prefetch(&pos[v]);
+      __builtin_prefetch(&quadric[v]);
+      __builtin_prefetch(&role[v]);
+      tris.prefetch_head(v);
+    } else if (stage == 1) {
+      tris.prefetch_list(v);
+    } else if (stage == 2) {
+      for (uint32_t t : tris[v]) {
+        __builtin_prefetch(&s.mesh.indices[3 * size_t(t)]);
+        __builtin_prefetch(&alive_tri[t]);
+        __builtin_prefetch(&s.sides[t]);
+        __builtin_prefetch(&witnesses[t]);
+      }
+    } else {
+      for (uint32_t t : tris[v])
+        for (int k = 0; k < 3; ++k)
+          __builtin_prefetch(&pos[s.mesh.indices[3 * size_t(t) + size_t(k)]]);
     }
-  }
-  // Last (`fourth`), the positions of its triangles' corners.
-  void prefetch_fourth(uint32_t v) const {
-    for (uint32_t t : tris[v])
-      for (int k = 0; k < 3; ++k)
-        __builtin_prefetch(&pos[s.mesh.indices[3 * size_t(t) + size_t(k)]]);
   }
   bool has(uint32_t t, uint32_t v) const {
     const uint32_t* i = &s.mesh.indices[3 * size_t(t)];
