@@ -62,7 +62,7 @@ class Collapser {
  public:
   Collapser(LabelledSurface& s, const DecimateOptions& options, std::span<const int64_t> budgets,
             int64_t surface_budget)
-      : m_(s), options_(options), limit_mm_(options.error_mm * kWitnessShare) {
+      : m_(s, options.error_mm > 0), options_(options), limit_mm_(options.error_mm * kWitnessShare) {
     version_.assign(m_.pos.size(), 0);
     count_.assign(s.part_count + 1, 0);
     budget_.assign(s.part_count + 1, 0);

@@ -47,7 +47,8 @@ void VertexTriangles::move(uint32_t v, uint32_t need) {
   h.cap = cap;
 }
 
-DecimationMesh::DecimationMesh(LabelledSurface& surface) : s(surface) {
+DecimationMesh::DecimationMesh(LabelledSurface& surface, bool witnessing_)
+    : s(surface), witnessing(witnessing_) {
   const size_t nv = s.mesh.positions.size(), nt = s.sides.size();
   pos.resize(nv);
   for (size_t v = 0; v < nv; ++v) pos[v] = to_double(s.mesh.positions[v]);
@@ -55,8 +56,8 @@ DecimationMesh::DecimationMesh(LabelledSurface& surface) : s(surface) {
   junction_vertex.assign(nv, 0);
   for (uint32_t v : s.junction_vertices) junction_vertex[v] = 1;
   quadric.resize(nv);
-  std::vector<char> has_witness(nv, 0);
-  witnesses = std::vector<TriangleWitnesses>(nt);
+  std::vector<char> has_witness(witnessing ? nv : 0, 0);
+  if (witnessing) witnesses = std::vector<TriangleWitnesses>(nt);
   tris.build(nv, s.mesh.indices, nt);
   alive_tri.assign(nt, 1);
   alive_vertex.assign(nv, 1);
@@ -70,7 +71,7 @@ DecimationMesh::DecimationMesh(LabelledSurface& surface) : s(surface) {
       for (double& x : q.q) x *= kPlaneWeight;
       for (int c = 0; c < 3; ++c) quadric[i[c]] += q;
     }
-    for (int c = 0; c < 3; ++c) {
+    for (int c = 0; c < 3 && witnessing; ++c) {
       if (!has_witness[i[c]]) {  // a corner of its witness: distance 0
         has_witness[i[c]] = 1;
         witnesses[t].push_back({s.mesh.positions[i[c]], 0.0f});
@@ -191,6 +192,7 @@ bool DecimationMesh::rewitness(std::span<const uint32_t> changed, double limit2,
 }
 
 void DecimationMesh::commit_witnesses() {
+  if (!witnessing) return;
   const DecimationScratch& sc = scratch();
   for (const ChangedTriangle& c : sc.pending_changed) {
     if (c.whole) {
@@ -229,6 +231,25 @@ void DecimationMesh::add_fan(uint32_t y, Corner&& corner, bool collapse, uint32_
 bool DecimationMesh::collapse_keeps_witnesses(uint32_t u, uint32_t v, Vec3d position,
                                               double limit2, bool far_ring) {
   const bool collapse = u != v;
+  if (!witnessing) {
+    // What the witnesses refused even without a bound: a collapse that leaves no live triangle
+    // around the merged vertex nor one ring further (a closed piece of the surface of two
+    // triangles, collapsed to nothing).
+    if (!collapse) return true;
+    auto outside_edge = [&](uint32_t y) {
+      for (uint32_t t : tris[y])
+        if (alive_tri[t] && !(has(t, u) && has(t, v))) return true;
+      return false;
+    };
+    if (outside_edge(u) || outside_edge(v)) return true;
+    if (!far_ring) return false;
+    for (uint32_t y : {u, v}) {
+      const ListPool::Lease ring = neighbours(y);
+      for (uint32_t w : *ring)
+        if (w != u && w != v && outside_edge(w)) return true;
+    }
+    return false;
+  }
   const ListPool::Lease changed = pool().take();
   // The vertices whose triangles change: v, and u too in a collapse (a move has u == v).
   const std::array<uint32_t, 2> around{v, u};
@@ -264,6 +285,7 @@ bool DecimationMesh::collapse_keeps_witnesses(uint32_t u, uint32_t v, Vec3d posi
 bool DecimationMesh::flip_keeps_witnesses(uint32_t t1, uint32_t t2, const std::array<uint32_t, 3>& new1,
                           const std::array<uint32_t, 3>& new2,
                           const std::array<uint32_t, 4>& corners, double limit2) {
+  if (!witnessing) return true;
   auto corner = [&](uint32_t i) { return pos[i]; };
   scratch().fan.clear();
   add_to_fan(t1, pos[new1[0]], pos[new1[1]], pos[new1[2]]);

@@ -188,7 +188,11 @@ struct DecimationScratch {
 struct DecimationMesh {
   // Positions, roles (surface_roles with either winding), quadrics (every triangle's plane,
   // weight 1/3, on its corners), triangle lists and witnesses of `surface`, kept until compact.
-  explicit DecimationMesh(LabelledSurface& surface);
+  // Without `witnessing` (no error bound: a triangle budget alone) there are no witnesses and
+  // every witness check passes: with no bound they only kept every original vertex on some live
+  // triangle, which a collapse the other checks allow always leaves.
+  explicit DecimationMesh(LabelledSurface& surface, bool witnessing = true);
+  bool witnessing = true;
 
   LabelledSurface& s;
   std::vector<Vec3d> pos;
@@ -228,7 +232,7 @@ struct DecimationMesh {
         __builtin_prefetch(&s.mesh.indices[3 * size_t(t)]);
         __builtin_prefetch(&alive_tri[t]);
         __builtin_prefetch(&s.sides[t]);
-        __builtin_prefetch(&witnesses[t]);
+        if (witnessing) __builtin_prefetch(&witnesses[t]);
       }
     } else {
       for (uint32_t t : tris[v])
