@@ -5,7 +5,6 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
-#include <array>
 #include <bit>
 #include <cassert>
 #include <cmath>
@@ -15,7 +14,6 @@
 #include "segmesh/detail/deviation_strata.hpp"
 #include "segmesh/detail/ordered_triangle_tree.hpp"
 #include "segmesh/moved_mesh_deviation.hpp"
-#include "segmesh/quality.hpp"
 
 namespace segmesh {
 
@@ -355,60 +353,17 @@ struct DirectionSamples {
   }
 };
 
-// One block's running search: its recent nearest triangles bound and start every search.
-struct Hint {
-  RecentTriangles recent;
-
-  double bound2(const OrderedTriangleTree& tree, Vec3d p, double enough2 = -1) {
-    return recent.bound2(tree, p, enough2);
-  }
-  // The exact squared distance of p below bound2 (the first recent triangle's); with enough2, a
-  // value at or below it as soon as one shows. The triangle found goes first.
-  double search(const OrderedTriangleTree& tree, Vec3d p, double bound2, double enough2 = -1) {
-    size_t found = recent.first();
-    const double d2 = tree.nearest2(p, bound2, found, enough2, &found);
-    recent.add(found);
-    return d2;
-  }
-};
-
-struct DirectionStatistics {
-  std::vector<double> distances;  // of the chosen samples
-  double sum = 0, max = 0;
-};
-
-// The chosen samples of one direction (stratum_chosen), each measured exactly.
-DirectionStatistics measure_chosen(const DirectionSamples& samples, size_t stride) {
-  const size_t n = samples.count();
-  const size_t blocks = (n + kDeviationSampleBlock - 1) / kDeviationSampleBlock;
-  std::vector<std::vector<double>> block_distances(blocks);
-  std::vector<double> block_sum(blocks, 0.0), block_max(blocks, 0.0);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t b = r.begin(); b != r.end(); ++b) {
-      Hint hint;
-      double sum = 0, max = 0;
-      std::vector<double>& out = block_distances[b];
-      for (size_t s = b * kDeviationSampleBlock, end = std::min(n, (b + 1) * kDeviationSampleBlock);
-           s < end; ++s) {
-        Vec3d p;
-        if (!stratum_chosen(s, stride) || !samples.get(s, p)) continue;
-        const double d = std::sqrt(hint.search(samples.to, p, hint.bound2(samples.to, p)));
-        out.push_back(d);
-        sum += d;
-        max = std::max(max, d);
-      }
-      block_sum[b] = sum;
-      block_max[b] = max;
+// The chosen samples of one direction (stratum_chosen), each measured exactly, each search
+// bounded and started by the block's recent nearest triangles.
+SampleDistances measure_chosen(const DirectionSamples& samples, size_t stride) {
+  return measure_in_blocks(samples.count(), [&](size_t begin, size_t end, std::vector<double>& out) {
+    RecentTriangles recent;
+    for (size_t s = begin; s < end; ++s) {
+      Vec3d p;
+      if (!stratum_chosen(s, stride) || !samples.get(s, p)) continue;
+      out.push_back(std::sqrt(recent.search(samples.to, p, recent.bound2(samples.to, p))));
     }
   });
-  DirectionStatistics stats;
-  for (size_t b = 0; b < blocks; ++b) {
-    stats.sum += block_sum[b];
-    stats.max = std::max(stats.max, block_max[b]);
-    stats.distances.insert(stats.distances.end(), block_distances[b].begin(),
-                           block_distances[b].end());
-  }
-  return stats;
 }
 
 // The largest distance of the samples not chosen, or `largest` when none exceeds it: a sample
@@ -420,15 +375,15 @@ double largest_unchosen(const DirectionSamples& samples, size_t stride, double l
   std::vector<double> block_max(blocks, largest);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t b = r.begin(); b != r.end(); ++b) {
-      Hint hint;
+      RecentTriangles recent;
       double max2 = largest * largest;
       for (size_t s = b * kDeviationSampleBlock, end = std::min(n, (b + 1) * kDeviationSampleBlock);
            s < end; ++s) {
         Vec3d p;
         if (stratum_chosen(s, stride) || !samples.get(s, p)) continue;
-        const double bound2 = hint.bound2(samples.to, p, max2);
+        const double bound2 = recent.bound2(samples.to, p, max2);
         if (bound2 <= max2) continue;
-        max2 = std::max(max2, hint.search(samples.to, p, bound2, max2));
+        max2 = std::max(max2, recent.search(samples.to, p, bound2, max2));
       }
       block_max[b] = std::sqrt(max2);
     }
@@ -462,22 +417,15 @@ Deviation mesh_deviation(const TriMesh& a, const TriMesh& b) {
   const DirectionSamples ab(a, *tree_b), ba(b, *tree_a);
   // One stride for both directions, so that the chosen samples keep the directions' proportions
   // and pool without weights (moved_mesh_deviation's choice when both have the same count).
-  const size_t n = ab.count() + ba.count();
-  const size_t limit = 2 * kDeviationStatisticSamples;
-  const size_t stride = n > limit ? (n + limit - 1) / limit : 1;
-  DirectionStatistics sab = measure_chosen(ab, stride);
-  DirectionStatistics sba = measure_chosen(ba, stride);
-  Deviation dev;
-  // One addition of two partial sums is commutative, which makes the mean exactly symmetric.
-  dev.mean = (sab.sum + sba.sum) / double(sab.distances.size() + sba.distances.size());
-  dev.hausdorff = std::max(sab.max, sba.max);
+  const size_t stride = stratum_stride(ab.count() + ba.count(), 2 * kDeviationStatisticSamples);
+  SampleDistances sab = measure_chosen(ab, stride);
+  SampleDistances sba = measure_chosen(ba, stride);
+  double hausdorff = std::max(sab.max, sba.max);
   if (stride > 1) {
-    dev.hausdorff = largest_unchosen(ab, stride, dev.hausdorff);
-    dev.hausdorff = largest_unchosen(ba, stride, dev.hausdorff);
+    hausdorff = largest_unchosen(ab, stride, hausdorff);
+    hausdorff = largest_unchosen(ba, stride, hausdorff);
   }
-  sab.distances.insert(sab.distances.end(), sba.distances.begin(), sba.distances.end());
-  dev.p95 = percentile(sab.distances, 0.95);
-  return dev;
+  return pooled_deviation(std::move(sab), std::move(sba), hausdorff);
 }
 
 }  // namespace segmesh

@@ -13,15 +13,12 @@
 
 #include "segmesh/detail/deviation_strata.hpp"
 #include "segmesh/detail/ordered_triangle_tree.hpp"
-#include "segmesh/quality.hpp"
 
 namespace segmesh {
 
 namespace {
 
 constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
-
-constexpr size_t kSampleBlock = kDeviationSampleBlock;
 
 // Chosen samples up to this many ids apart are searched in groups of kTreeGroup (one walk for
 // the group: they are still near each other on the surface); farther apart, one by one
@@ -69,67 +66,34 @@ struct Samples {
   }
 };
 
-struct Statistics {
-  std::vector<double> distances;  // of the samples measured
-  double sum = 0;                 // their sum
-  double max = 0;                 // their largest
-};
-
 // The chosen samples of one direction, each measured exactly against `target`, searched in
 // groups of kTreeGroup consecutive chosen ones up to a stride of kGroupStride (close together:
 // the samples follow the vertex and triangle order), each below its counterpart's distance and
 // starting at its start leaf.
-Statistics measure_statistics(const Samples& samples, bool forward, const OrderedTriangleTree& target) {
-  const size_t n = samples.count();
-  const size_t blocks = (n + kSampleBlock - 1) / kSampleBlock;
-  std::vector<std::vector<double>> block_distances(blocks);
-  std::vector<double> block_sum(blocks, 0.0), block_max(blocks, 0.0);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t>& r) {
+SampleDistances measure_statistics(const Samples& samples, bool forward,
+                                   const OrderedTriangleTree& target) {
+  return measure_in_blocks(samples.count(), [&](size_t begin, size_t end, std::vector<double>& out) {
     Vec3d p[kTreeGroup];
     double best2[kTreeGroup];
     size_t start[kTreeGroup];
-    for (size_t b = r.begin(); b != r.end(); ++b) {
-      double sum = 0, max = 0;
-      std::vector<double>& out = block_distances[b];
-      size_t count = 0;
-      auto flush = [&] {
-        if (samples.stride <= kGroupStride) {
-          target.nearest2_group(p, best2, start, count);
-        } else {
-          for (size_t k = 0; k < count; ++k) best2[k] = target.nearest2(p[k], best2[k], start[k]);
-        }
-        for (size_t k = 0; k < count; ++k) {
-          const double d = std::sqrt(best2[k]);
-          out.push_back(d);
-          sum += d;
-          max = std::max(max, d);
-        }
-        count = 0;
-      };
-      for (size_t s = b * kSampleBlock, end = std::min(n, (b + 1) * kSampleBlock); s < end; ++s) {
-        double bound;
-        if (!samples.chosen(s) || !samples.get(s, forward, p[count], bound, start[count])) continue;
-        best2[count] = bound * bound;
-        if (++count == kTreeGroup) flush();
+    size_t count = 0;
+    auto flush = [&] {
+      if (samples.stride <= kGroupStride) {
+        target.nearest2_group(p, best2, start, count);
+      } else {
+        for (size_t k = 0; k < count; ++k) best2[k] = target.nearest2(p[k], best2[k], start[k]);
       }
-      if (count > 0) flush();
-      block_sum[b] = sum;
-      block_max[b] = max;
+      for (size_t k = 0; k < count; ++k) out.push_back(std::sqrt(best2[k]));
+      count = 0;
+    };
+    for (size_t s = begin; s < end; ++s) {
+      double bound;
+      if (!samples.chosen(s) || !samples.get(s, forward, p[count], bound, start[count])) continue;
+      best2[count] = bound * bound;
+      if (++count == kTreeGroup) flush();
     }
+    if (count > 0) flush();
   });
-  Statistics stats;
-  size_t measured = 0;
-  for (size_t b = 0; b < blocks; ++b) {
-    stats.sum += block_sum[b];
-    stats.max = std::max(stats.max, block_max[b]);
-    measured += block_distances[b].size();
-  }
-  stats.distances.reserve(measured);
-  for (auto& d : block_distances) {
-    stats.distances.insert(stats.distances.end(), d.begin(), d.end());
-    d = {};
-  }
-  return stats;
 }
 
 // The largest distance over every sample of both directions, given `largest`: the largest
@@ -147,19 +111,19 @@ double largest_distance(const Samples& samples, const OrderedTriangleTree& after
     uint32_t offset;
   };
   const size_t n = samples.count();
-  const size_t blocks = (n + kSampleBlock - 1) / kSampleBlock;
+  const size_t blocks = (n + kDeviationSampleBlock - 1) / kDeviationSampleBlock;
   std::vector<std::vector<Candidate>> block_candidates(blocks);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t b = r.begin(); b != r.end(); ++b) {
       std::vector<Candidate>& out = block_candidates[b];
-      for (size_t s = b * kSampleBlock, end = std::min(n, (b + 1) * kSampleBlock); s < end; ++s) {
+      for (size_t s = b * kDeviationSampleBlock, end = std::min(n, (b + 1) * kDeviationSampleBlock); s < end; ++s) {
         Vec3d p;
         double bound;
         size_t start;
         if (samples.chosen(s) || !samples.get(s, true, p, bound, start) || !(bound > largest)) continue;
         float up = float(bound);
         if (double(up) < bound) up = std::nextafter(up, std::numeric_limits<float>::infinity());
-        out.push_back({up, uint32_t(s - b * kSampleBlock)});
+        out.push_back({up, uint32_t(s - b * kDeviationSampleBlock)});
       }
       out.shrink_to_fit();
     }
@@ -198,7 +162,7 @@ double largest_distance(const Samples& samples, const OrderedTriangleTree& after
         double block = 0;
         for (const Candidate& c : block_candidates[b])
           if ((c.bound >= first) == early && c.bound > below)
-            block = std::max(block, search(b * kSampleBlock + c.offset, below));
+            block = std::max(block, search(b * kDeviationSampleBlock + c.offset, below));
         block_max[b] = std::max(block_max[b], block);
       }
     });
@@ -227,22 +191,15 @@ Deviation moved_mesh_deviation(const std::vector<Vec3f>& before, const TriMesh& 
       }
   });
   Samples samples{before, after.positions, idx, first};
-  const size_t n = samples.count();
-  if (statistic_samples > 0 && n > statistic_samples) samples.stride = (n + statistic_samples - 1) / statistic_samples;
+  samples.stride = stratum_stride(samples.count(), statistic_samples);
   std::optional<OrderedTriangleTree> tree_before, tree_after;
   tbb::parallel_invoke([&] { tree_before.emplace(before.data(), idx.data(), nt); },
                        [&] { tree_after.emplace(after.positions.data(), idx.data(), nt); });
-  Statistics ab = measure_statistics(samples, true, *tree_after);
-  Statistics ba = measure_statistics(samples, false, *tree_before);
-  Deviation dev;
-  // One addition of two partial sums is commutative, which makes the mean exactly symmetric.
-  dev.mean = (ab.sum + ba.sum) / double(ab.distances.size() + ba.distances.size());
-  dev.hausdorff = std::max(ab.max, ba.max);
-  if (samples.stride > 1) dev.hausdorff = largest_distance(samples, *tree_after, *tree_before, dev.hausdorff);
-  ab.distances.insert(ab.distances.end(), ba.distances.begin(), ba.distances.end());
-  ba.distances = {};
-  dev.p95 = percentile(ab.distances, 0.95);
-  return dev;
+  SampleDistances ab = measure_statistics(samples, true, *tree_after);
+  SampleDistances ba = measure_statistics(samples, false, *tree_before);
+  double hausdorff = std::max(ab.max, ba.max);
+  if (samples.stride > 1) hausdorff = largest_distance(samples, *tree_after, *tree_before, hausdorff);
+  return pooled_deviation(std::move(ab), std::move(ba), hausdorff);
 }
 
 }  // namespace segmesh

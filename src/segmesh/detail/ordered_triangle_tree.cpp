@@ -61,7 +61,20 @@ inline double box_distance2(const T* lo, const T* hi, Vec3d p) {
   return d2 * kBoxShrink;
 }
 
+// The squared distance from p to the triangle (a, b, c): every search's exact test.
+double triangle_distance2_of(Vec3d p, Vec3d a, Vec3d b, Vec3d c) {
+  const Vec3d q = p - closest_point_on_triangle(p, a, b, c);
+  return dot(q, q);
+}
+
 }  // namespace
+
+OrderedTriangleTree::Box OrderedTriangleTree::Box::of(Vec3f a, Vec3f b, Vec3f c) {
+  Box box{{a.x, a.y, a.z}, {a.x, a.y, a.z}};
+  box.add(b);
+  box.add(c);
+  return box;
+}
 
 double OrderedTriangleTree::Box::distance2(Vec3d p) const {
   return box_distance2(lo, hi, p);
@@ -106,10 +119,7 @@ struct OrderedTriangleTree::LeafBoxes {
 
 void OrderedTriangleTree::leaf_boxes(uint64_t leaf, LeafBoxes& out) const {
   for (size_t t = leaf_begin(leaf), end = leaf_begin(leaf + 1), k = 0; t < end; ++t, ++k) {
-    const Vec3f fa = pos_[idx_[3 * t]];
-    Box box{{fa.x, fa.y, fa.z}, {fa.x, fa.y, fa.z}};
-    box.add(pos_[idx_[3 * t + 1]]);
-    box.add(pos_[idx_[3 * t + 2]]);
+    const Box box = Box::of(pos_[idx_[3 * t]], pos_[idx_[3 * t + 1]], pos_[idx_[3 * t + 2]]);
     for (int a = 0; a < 3; ++a) {
       out.box[k].lo[a] = double(box.lo[a]);
       out.box[k].hi[a] = double(box.hi[a]);
@@ -128,12 +138,7 @@ void OrderedTriangleTree::test_leaf(Vec3d p, uint64_t leaf, double& best, double
   for (size_t t = begin, end = leaf_begin(leaf + 1); t < end; ++t) {
     if (boxes && !(boxes->box[t - begin].distance2(p) < best)) continue;
     const Vec3f fa = pos_[idx_[3 * t]], fb = pos_[idx_[3 * t + 1]], fc = pos_[idx_[3 * t + 2]];
-    if (!boxes) {
-      Box box{{fa.x, fa.y, fa.z}, {fa.x, fa.y, fa.z}};
-      box.add(fb);
-      box.add(fc);
-      if (!(box.distance2(p) < best)) continue;
-    }
+    if (!boxes && !(Box::of(fa, fb, fc).distance2(p) < best)) continue;
     const Vec3d a = to_double(fa), b = to_double(fb), c = to_double(fc);
     if (enough2 >= 0) {
       const double corner = std::min({dot(p - a, p - a), dot(p - b, p - b), dot(p - c, p - c)});
@@ -145,9 +150,9 @@ void OrderedTriangleTree::test_leaf(Vec3d p, uint64_t leaf, double& best, double
         return;
       }
     }
-    const Vec3d q = p - closest_point_on_triangle(p, a, b, c);
-    if (dot(q, q) < best) {
-      best = dot(q, q);
+    const double d2 = triangle_distance2_of(p, a, b, c);
+    if (d2 < best) {
+      best = d2;
       if (nearest) *nearest = t;
     }
     if (best <= enough2) return;
@@ -155,10 +160,8 @@ void OrderedTriangleTree::test_leaf(Vec3d p, uint64_t leaf, double& best, double
 }
 
 double OrderedTriangleTree::triangle_distance2(Vec3d p, size_t t) const {
-  const Vec3d q = p - closest_point_on_triangle(p, to_double(pos_[idx_[3 * t]]),
-                                                to_double(pos_[idx_[3 * t + 1]]),
-                                                to_double(pos_[idx_[3 * t + 2]]));
-  return dot(q, q);
+  return triangle_distance2_of(p, to_double(pos_[idx_[3 * t]]), to_double(pos_[idx_[3 * t + 1]]),
+                               to_double(pos_[idx_[3 * t + 2]]));
 }
 
 double OrderedTriangleTree::nearest2(Vec3d p, double bound2, size_t start, double enough2,

@@ -53,6 +53,7 @@ class OrderedTriangleTree {
  private:
   struct Box {
     float lo[3], hi[3];
+    static Box of(Vec3f a, Vec3f b, Vec3f c);  // a triangle's
     bool overlaps(const Box& o) const;
     void add(Vec3f v);
     void merge(const Box& o);
@@ -91,6 +92,14 @@ class RecentTriangles {
   size_t first() const { return kept_ > 0 ? triangle_[0] : OrderedTriangleTree::kNoStart; }
   // Puts t first; kNoStart is ignored.
   void add(size_t t);
+  // tree.nearest2 from the first kept triangle below bound2 (best: the first's distance, as
+  // bound2 leaves it), the triangle it finds put first.
+  double search(const OrderedTriangleTree& tree, Vec3d p, double bound2, double enough2 = -1) {
+    size_t found = first();
+    const double d2 = tree.nearest2(p, bound2, found, enough2, &found);
+    add(found);
+    return d2;
+  }
 
  private:
   std::array<size_t, kKept> triangle_{};
