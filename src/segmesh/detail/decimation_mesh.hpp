@@ -188,13 +188,13 @@ struct DecimationScratch {
 struct DecimationMesh {
   // Positions, roles (surface_roles with either winding), quadrics (every triangle's plane,
   // weight 1/3, on its corners), triangle lists and witnesses of `surface`, kept until compact.
-  // Without `witnessing` (no error bound: a triangle budget alone) there are no witnesses and
-  // every witness check passes: with no bound they only kept every original vertex on some live
-  // triangle, which a collapse the other checks allow always leaves.
+  // Without `witnessing` (no error bound: a triangle budget alone) there are no witnesses: with
+  // no bound they only kept every original vertex on some live triangle, which every collapse
+  // the other checks allow leaves but one, which collapse_keeps_witnesses still refuses.
   explicit DecimationMesh(LabelledSurface& surface, bool witnessing = true);
-  bool witnessing = true;
 
   LabelledSurface& s;
+  bool witnessing = true;
   std::vector<Vec3d> pos;
   std::vector<SmoothRole> role;
   std::vector<char> junction_vertex;  // s.junction_vertices and the vertices they merged into
