@@ -46,6 +46,7 @@
 // query's time is mostly cache misses.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -59,6 +60,18 @@ namespace segmesh {
 // The point of the triangle (a, b, c) closest to p, as described above; degenerate triangles
 // (collinear corners, repeated corners) are handled as segments or a point.
 Vec3d closest_point_on_triangle(Vec3d p, Vec3d a, Vec3d b, Vec3d c);
+
+// The squared distance from p to that closest point: the exact test of the searches.
+inline double point_triangle_distance2(Vec3d p, Vec3d a, Vec3d b, Vec3d c) {
+  const Vec3d d = p - closest_point_on_triangle(p, a, b, c);
+  return dot(d, d);
+}
+
+// The squared distance from p to the nearest corner of (a, b, c): an upper bound of the one
+// above, which settles "within a limit" questions without the exact test when it is small enough.
+inline double nearest_corner_distance2(Vec3d p, Vec3d a, Vec3d b, Vec3d c) {
+  return std::min({dot(p - a, p - a), dot(p - b, p - b), dot(p - c, p - c)});
+}
 
 // The point of the segment [a, b] closest to p; a when a == b.
 Vec3d closest_point_on_segment(Vec3d p, Vec3d a, Vec3d b);

@@ -17,7 +17,7 @@ constexpr double kPlaneWeight = 1.0 / 3;
 constexpr double kInfinityShift = std::numeric_limits<double>::infinity();
 }  // namespace
 
-// Room for two more triangles than a vertex starts with: a collapse into it adds the other
+// Room for four more triangles than a vertex starts with: a collapse into it adds the other
 // vertex's before the dead ones are pruned.
 void VertexTriangles::build(size_t nv, const std::vector<uint32_t>& indices, size_t nt) {
   constexpr uint32_t kSlack = 4;
@@ -168,8 +168,7 @@ bool DecimationMesh::rewitness(std::span<const uint32_t> changed, double limit2,
         own_looked = true;
       }
       if (own) {
-        const Vec3d d = closest_point_on_triangle(q, own->p[0], own->p[1], own->p[2]) - q;
-        const double d2 = dot(d, d);
+        const double d2 = point_triangle_distance2(q, own->p[0], own->p[1], own->p[2]);
         if (d2 <= limit2) {
           pending.push_back({original, t, std::sqrt(d2)});
           continue;
@@ -314,15 +313,14 @@ uint32_t DecimationMesh::witness_in_fan(const Vec3d& q, double limit2, double& d
         q.z < f.lo.z - r || q.z > f.hi.z + r)
       continue;
     const std::array<Vec3d, 3>& p = f.p;
-    const double corner2 =
-        std::min({dot(p[0] - q, p[0] - q), dot(p[1] - q, p[1] - q), dot(p[2] - q, p[2] - q)});
+    const double corner2 = nearest_corner_distance2(q, p[0], p[1], p[2]);
     if (corner2 <= limit2) {
       distance = std::sqrt(corner2);
       return f.t;
     }
-    const Vec3d d = closest_point_on_triangle(q, p[0], p[1], p[2]) - q;
-    if (dot(d, d) <= limit2) {
-      distance = std::sqrt(dot(d, d));
+    const double d2 = point_triangle_distance2(q, p[0], p[1], p[2]);
+    if (d2 <= limit2) {
+      distance = std::sqrt(d2);
       return f.t;
     }
   }

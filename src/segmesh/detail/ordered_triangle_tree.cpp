@@ -61,12 +61,6 @@ inline double box_distance2(const T* lo, const T* hi, Vec3d p) {
   return d2 * kBoxShrink;
 }
 
-// The squared distance from p to the triangle (a, b, c): every search's exact test.
-double triangle_distance2_of(Vec3d p, Vec3d a, Vec3d b, Vec3d c) {
-  const Vec3d q = p - closest_point_on_triangle(p, a, b, c);
-  return dot(q, q);
-}
-
 }  // namespace
 
 OrderedTriangleTree::Box OrderedTriangleTree::Box::of(Vec3f a, Vec3f b, Vec3f c) {
@@ -141,7 +135,7 @@ void OrderedTriangleTree::test_leaf(Vec3d p, uint64_t leaf, double& best, double
     if (!boxes && !(Box::of(fa, fb, fc).distance2(p) < best)) continue;
     const Vec3d a = to_double(fa), b = to_double(fb), c = to_double(fc);
     if (enough2 >= 0) {
-      const double corner = std::min({dot(p - a, p - a), dot(p - b, p - b), dot(p - c, p - c)});
+      const double corner = nearest_corner_distance2(p, a, b, c);
       if (corner <= enough2) {
         if (corner < best) {
           best = corner;
@@ -150,7 +144,7 @@ void OrderedTriangleTree::test_leaf(Vec3d p, uint64_t leaf, double& best, double
         return;
       }
     }
-    const double d2 = triangle_distance2_of(p, a, b, c);
+    const double d2 = point_triangle_distance2(p, a, b, c);
     if (d2 < best) {
       best = d2;
       if (nearest) *nearest = t;
@@ -160,7 +154,7 @@ void OrderedTriangleTree::test_leaf(Vec3d p, uint64_t leaf, double& best, double
 }
 
 double OrderedTriangleTree::triangle_distance2(Vec3d p, size_t t) const {
-  return triangle_distance2_of(p, to_double(pos_[idx_[3 * t]]), to_double(pos_[idx_[3 * t + 1]]),
+  return point_triangle_distance2(p, to_double(pos_[idx_[3 * t]]), to_double(pos_[idx_[3 * t + 1]]),
                                to_double(pos_[idx_[3 * t + 2]]));
 }
 
