@@ -225,7 +225,7 @@ class Collapser {
       if (m_.rho(t) <= worst) return true;
     for (uint32_t x : {u, v})
       for (uint32_t t : m_.tris[x])
-        if (m_.alive_tri[t] && !(m_.has(t, u) && m_.has(t, v)) && m_.rho(t) <= worst) return true;
+        if (m_.kept_by_collapse(t, u, v) && m_.rho(t) <= worst) return true;
     return false;
   }
 
@@ -248,7 +248,7 @@ class Collapser {
     double worst_after = 1;
     for (uint32_t x : {u, v}) {
       for (uint32_t t : m_.tris[x]) {
-        if (!m_.alive_tri[t] || (m_.has(t, u) && m_.has(t, v))) continue;
+        if (!m_.kept_by_collapse(t, u, v)) continue;
         const uint32_t* i = &m_.s.mesh.indices[3 * size_t(t)];
         Vec3d p[3];
         for (int k = 0; k < 3; ++k) p[k] = i[k] == u || i[k] == v ? c.position : m_.pos[i[k]];

@@ -220,7 +220,7 @@ template <class Corner>
 void DecimationMesh::add_fan(uint32_t y, Corner&& corner, bool collapse, uint32_t u, uint32_t v,
                              uint32_t skip1, uint32_t skip2) {
   for (uint32_t t : tris[y]) {
-    if (!alive_tri[t] || t == skip1 || t == skip2 || (collapse && has(t, u) && has(t, v))) continue;
+    if (t == skip1 || t == skip2 || !(collapse ? kept_by_collapse(t, u, v) : alive_tri[t])) continue;
     const uint32_t* i = &s.mesh.indices[3 * size_t(t)];
     add_to_fan(t, corner(i[0]), corner(i[1]), corner(i[2]));
   }
@@ -237,7 +237,7 @@ bool DecimationMesh::collapse_keeps_witnesses(uint32_t u, uint32_t v, Vec3d posi
     if (!collapse) return true;
     auto outside_edge = [&](uint32_t y) {
       for (uint32_t t : tris[y])
-        if (alive_tri[t] && !(has(t, u) && has(t, v))) return true;
+        if (kept_by_collapse(t, u, v)) return true;
       return false;
     };
     if (outside_edge(u) || outside_edge(v)) return true;
@@ -352,7 +352,7 @@ bool DecimationMesh::crosses_nearby(uint32_t u, uint32_t v, const Vec3d& positio
   std::vector<uint32_t>& ring = *ring_lease;
   for (uint32_t w : near)
     for (uint32_t t : tris[w])
-      if (alive_tri[t] && !(has(t, u) && has(t, v))) ring.push_back(t);
+      if (kept_by_collapse(t, u, v)) ring.push_back(t);
   std::sort(ring.begin(), ring.end());
   ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
   bool mixed = false;

@@ -244,6 +244,10 @@ struct DecimationMesh {
     const uint32_t* i = &s.mesh.indices[3 * size_t(t)];
     return i[0] == v || i[1] == v || i[2] == v;
   }
+  // Whether t is live and off the edge (u, v): a collapse of the edge keeps it.
+  bool kept_by_collapse(uint32_t t, uint32_t u, uint32_t v) const {
+    return alive_tri[t] && !(has(t, u) && has(t, v));
+  }
   // The live triangles on edge (a, b).
   template <class F>
   void for_edge_triangles(uint32_t a, uint32_t b, F&& f) const {
