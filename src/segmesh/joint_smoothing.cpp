@@ -185,8 +185,7 @@ void smooth_jointly(LabelledSurface& surface, const SmoothOptions& options, Prog
         });
     for (size_t m = 1; m < k.size(); ++m) {
       restore[m] = solve_restoration(k[m]);
-      const double d = restore[m].delta;
-      const double restored = k[m].k0 + d * (k[m].k1 + d * (k[m].k2 + d * k[m].k3));
+      const double restored = k[m].at(restore[m].delta);
       check[m] = restore[m].keep_original || !(restored >= 2 * kCollapsedVolume * k[m].original);
     }
   }

@@ -33,7 +33,7 @@ Restoration solve_restoration(const VolumeCubic& k) {
   if (std::abs(volume - target) <= 1e-9 * target) return {};
   double delta = 0;  // no step if the derivative k1 is not positive
   for (int step = 0; step < 50; ++step) {
-    const double g = k.k0 + delta * (k.k1 + delta * (k.k2 + delta * k.k3)) - target;
+    const double g = k.at(delta) - target;
     const double dg = k.k1 + delta * (2 * k.k2 + delta * 3 * k.k3);
     if (!(dg > 0)) break;
     const double change = g / dg;

@@ -18,6 +18,8 @@ struct VolumeCubic {
   VolumeCubic operator+(const VolumeCubic& o) const {
     return {k0 + o.k0, k1 + o.k1, k2 + o.k2, k3 + o.k3, original + o.original};
   }
+  // 6 V(delta).
+  double at(double delta) const { return k0 + delta * (k1 + delta * (k2 + delta * k3)); }
 };
 
 struct Restoration {
