@@ -4,6 +4,7 @@
 
 #include <limits>
 
+#include "segmesh/detail/inside_bits.hpp"
 #include "segmesh/first_touch.hpp"
 
 namespace segmesh::dc {
@@ -13,16 +14,6 @@ namespace {
 // The grown box of a part whose box is `box` (first, last; inclusive).
 std::array<int64_t, 3> grown_dims(const PartBox& box) {
   return {box[1][0] - box[0][0] + 5, box[1][1] - box[0][1] + 5, box[1][2] - box[0][2] + 5};
-}
-
-// Sets bits [b, e) of `row`.
-void set_bits(uint64_t* row, int64_t b, int64_t e) {
-  while (b < e) {
-    const int64_t off = b & 63, n = std::min<int64_t>(64 - off, e - b);
-    const uint64_t ones = n == 64 ? ~uint64_t{0} : (uint64_t{1} << n) - 1;
-    row[b >> 6] |= ones << off;
-    b += n;
-  }
 }
 
 }  // namespace
@@ -80,7 +71,7 @@ MaterialBits::MaterialBits(const MaterialRows& rows, std::span<const PartBox> bo
         const Part& p = parts_[r.material - 1];
         uint64_t* row = bits_.data() + p.first_word +
                         size_t((k - p.origin[2]) * p.dims[1] + (j - p.origin[1])) * p.words;
-        set_bits(row, r.x_begin - p.origin[0], r.x_end - p.origin[0]);
+        set_bit_run(row, r.x_begin - p.origin[0], r.x_end - p.origin[0]);
       }
   });
 }

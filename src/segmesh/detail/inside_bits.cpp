@@ -120,17 +120,7 @@ InsideBits inside_bits(const Components& components, const Component& component,
   for (const VoxelRun& run : components.runs_of(component)) {
     uint64_t* row =
         b.bits.data() + static_cast<size_t>(((run.z - z0) * dims[1] + (run.y - y0)) * b.words);
-    const int64_t lo = run.x_begin - x0, hi = run.x_end - x0;  // [lo, hi), hi > lo
-    const int64_t wl = lo >> 6, wh = (hi - 1) >> 6;
-    const uint64_t first = ~uint64_t{0} << (lo & 63);
-    const uint64_t last = ~uint64_t{0} >> (63 - ((hi - 1) & 63));
-    if (wl == wh) {
-      row[wl] |= first & last;
-      continue;
-    }
-    row[wl] |= first;
-    for (int64_t w = wl + 1; w < wh; ++w) row[w] = ~uint64_t{0};
-    row[wh] |= last;
+    set_bit_run(row, run.x_begin - x0, run.x_end - x0);
   }
   return b;
 }

@@ -40,6 +40,20 @@ struct InsideBits {
   }
 };
 
+// Sets bits [lo, hi) of a row (lo < hi): a run of voxels.
+inline void set_bit_run(uint64_t* row, int64_t lo, int64_t hi) {
+  const int64_t wl = lo >> 6, wh = (hi - 1) >> 6;
+  const uint64_t first = ~uint64_t{0} << (lo & 63);
+  const uint64_t last = ~uint64_t{0} >> (63 - ((hi - 1) & 63));
+  if (wl == wh) {
+    row[wl] |= first & last;
+    return;
+  }
+  row[wl] |= first;
+  for (int64_t w = wl + 1; w < wh; ++w) row[w] = ~uint64_t{0};
+  row[wh] |= last;
+}
+
 // Bits x and x + 1 of a row (x + 1 may be the first bit of the next word).
 inline unsigned bit_pair(const uint64_t* row, int64_t x) {
   const int64_t w = x >> 6;
