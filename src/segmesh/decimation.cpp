@@ -12,6 +12,7 @@
 #include <numeric>
 #include <utility>
 
+#include "segmesh/detail/decimation_blocks.hpp"
 #include "segmesh/detail/decimation_mesh.hpp"
 #include "segmesh/detail/decimation_order.hpp"
 #include "segmesh/detail/decimation_passes.hpp"
@@ -36,14 +37,19 @@ constexpr double kWitnessShare = 0.80;
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-// Parallel rounds (decimation.hpp): surfaces of fewer vertices go serial at once; a round takes
-// the cheaper half of the vertices' best collapses (by cost bucket); budgets stop the rounds
-// at this many times the budget, the cheapest-first loop going the rest; the rounds end when
-// one makes fewer collapses than a 1/kRoundsEndShare of the live vertices (or kRoundsEndCount).
-constexpr size_t kParallelMinVertices = 4096;
-constexpr double kRoundShare = 0.5;
-constexpr double kRoundsBudgetMargin = 1.5;
-constexpr int64_t kRoundsEndShare = 256, kRoundsEndCount = 64;
+// The block phase (decimation.hpp): blocks of about this many vertices (cubes of a grid sized by
+// the surface's area); surfaces of fewer than two blocks' vertices go to the loop at once.
+constexpr size_t kBlockVertices = 16384;
+// With a budget, the blocks collapse beyond the error bound until the triangles they can remove
+// are at most kBlockBudgetStop times their share of the budget, each round letting every block
+// remove its share of those above kBlockBudgetTarget times it; the loop removes the rest
+// cheapest first over the whole surface.
+constexpr double kBlockBudgetStop = 1.5, kBlockBudgetTarget = 1.25;
+// The blocks' triangle counts by material are one dense table: no block phase beyond this many
+// entries (blocks times parts).
+constexpr size_t kBlockCountsMax = size_t(1) << 22;
+// Room for the triangle lists that move in the block phase, a share of the lists' entries.
+constexpr double kBlockListRoom = 0.5;
 constexpr double kSliver = 0.02;  // decimation.hpp says why not 0.05
 // An octave of costs beyond the error bound keeps its order (detail/decimation_order.hpp) when
 // this many times its candidates reach the triangles a budget still wants removed (a collapse
@@ -57,6 +63,25 @@ constexpr size_t kPrefetchVersions = 8;
 constexpr std::array<size_t, 4> kPrefetchAhead{3, 2, 1, 0};  // by DecimationMesh::prefetch stage
 // Surfaces of fewer vertices keep buckets 4.4 % wide throughout: their data stays in cache.
 constexpr size_t kSweepMinVertices = 65536;
+
+// Where a loop of collapses works: the whole surface (the cheapest-first loop), or one block of
+// the block phase, with its own queue, the counts by material of the triangles it owns (every
+// corner its own: the only ones it can remove), and what it may remove beyond the error bound in
+// the current round.
+struct Region {
+  static constexpr uint32_t kWhole = ~0u;
+  uint32_t id = kWhole;
+  CostBuckets queue;
+  int64_t* count = nullptr;        // by material
+  int64_t units = 0;               // block: its triangles' shell sides (its counts together)
+  int64_t locked = 0;              // block: those of them this phase cannot remove
+  int64_t allowance = 0;           // block: shell sides it may remove beyond the error bound
+  bool stopped = false;            // block: the allowance ended its round
+  std::vector<uint32_t> lost;      // block: the material of every shell side removed this round
+  std::vector<uint32_t> vertices;  // block: its core vertices, ascending
+  VertexTriangles::Room room;      // block: for its moved triangle lists
+  DecimationStats stats;
+};
 
 class Collapser {
  public:
@@ -73,52 +98,24 @@ class Collapser {
     for (const std::array<uint32_t, 2>& sides : s.sides)
       for (uint32_t m : sides)
         if (m != 0) ++count_[m];
+    whole_.count = count_.data();
   }
 
   DecimationStats run() {
     DecimationStats stats;
-    parallel_rounds(stats);
-    for (uint32_t v = 0; v < m_.pos.size(); ++v)
-      if (m_.alive_vertex[v]) push_edges(v, /*higher_only=*/true);
-    // A vertex dies only in a collapse, which steps its version: the versions say it all.
-    auto current = [&](const Candidate& c) {
-      return version_[c.remove] == c.remove_version && version_[c.keep] == c.keep_version;
-    };
-    // The order within an octave of costs is kept where a budget may stop in it, and on a
-    // surface small enough for the cache, where sweeps gain nothing.
-    const bool small = m_.pos.size() < kSweepMinVertices;
-    auto exact = [&](double upper_cost, size_t count) {
-      if (small) return true;
-      if (!has_budget_ || (limit_mm_ > 0 && upper_cost <= limit_mm_)) return false;
-      return kExactOrderShare * int64_t(count) >= triangles_over_budget();
-    };
-    Candidate c;
-    auto ahead = [&](const Candidate& c) {
-      __builtin_prefetch(&version_[c.remove]);
-      __builtin_prefetch(&version_[c.keep]);
-    };
-    while (queue_.pop(c, current, exact, ahead)) {
-      // The loop waits on memory: the next candidates' data is asked for ahead.
-      if (const Candidate* n = queue_.peek(kPrefetchVersions)) ahead(*n);
-      for (int stage = 0; stage < int(kPrefetchAhead.size()); ++stage)
-        if (const Candidate* n = queue_.peek(kPrefetchAhead[size_t(stage)])) {
-          m_.prefetch(stage, n->remove);
-          m_.prefetch(stage, n->keep);
-        }
-      if (!current(c)) continue;
-      const bool within_error = limit_mm_ > 0 && c.cost <= limit_mm_;
-      if (!within_error && !has_budget_) continue;  // never pushed (push_edges)
-      if (!within_error && !removes_from_part_over_budget(c.remove, c.keep)) continue;
-      if (!allowed(c)) continue;
-      // Beyond the error bound (a budget's collapse) the witnesses are only kept alive.
-      if (!m_.collapse_keeps_witnesses(c.remove, c.keep, c.position,
-                                       within_error ? limit_mm_ * limit_mm_ : kInfinity))
-        continue;
-      if (m_.crosses_nearby(c.remove, c.keep, c.position)) continue;
-      apply(c);
-      ++stats.collapses;
-      stats.largest_cost_mm = std::max(stats.largest_cost_mm, c.cost);
+    // Twice: the second grid shifted by half a block, so the first one's borders are inside
+    // its blocks.
+    const bool blocks =
+        options_.blocks && m_.pos.size() >= 2 * kBlockVertices && (limit_mm_ > 0 || has_budget_);
+    if (const double side = blocks ? decimation_block_side(m_, kBlockVertices) : 0; side > 0) {
+      const size_t reached = block_phase(stats, side, 0.0, CostBuckets::bucket_count());
+      block_phase(stats, side, 0.5, reached);
     }
+    for (uint32_t v = 0; v < m_.pos.size(); ++v)
+      if (m_.alive_vertex[v]) push_edges(v, /*higher_only=*/true, whole_);
+    collapse_loop(whole_, std::numeric_limits<size_t>::max());
+    stats.collapses += whole_.stats.collapses;
+    stats.largest_cost_mm = std::max(stats.largest_cost_mm, whole_.stats.largest_cost_mm);
     // Better triangles: flips and relaxation in turn, both keeping every witness.
     const double bound = limit_mm_ > 0 ? std::min(limit_mm_, stats.largest_cost_mm) : stats.largest_cost_mm;
     const double limit2 = limit_mm_ > 0 ? limit_mm_ * limit_mm_ : kInfinity;
@@ -149,11 +146,11 @@ class Collapser {
       std::sort(edges.begin(), edges.end());
       for (const auto& [length, k] : edges) {
         const std::optional<Candidate> c = candidate(i[k], i[(k + 1) % 3]);
-        if (!c || c->cost > bound || !allowed(*c) ||
+        if (!c || c->cost > bound || !allowed(*c, count_.data()) ||
             !m_.collapse_keeps_witnesses(c->remove, c->keep, c->position, limit2) ||
             m_.crosses_nearby(c->remove, c->keep, c->position))
           continue;
-        apply(*c);
+        apply(*c, whole_);
         ++made;
         break;
       }
@@ -162,6 +159,68 @@ class Collapser {
   }
 
  private:
+  // Collapses from r's queue, cheapest first, through cost bucket `through`.
+  void collapse_loop(Region& r, size_t through) {
+    const bool whole = r.id == Region::kWhole;
+    // A vertex dies only in a collapse, which steps its version: the versions say it all.
+    auto current = [&](const Candidate& c) {
+      return version_[c.remove] == c.remove_version && version_[c.keep] == c.keep_version;
+    };
+    // The order within an octave of costs is kept where a budget may stop in it, on a surface
+    // small enough for the cache, where sweeps gain nothing, and in the blocks, whose rounds go
+    // bucket by bucket.
+    const bool small = m_.pos.size() < kSweepMinVertices;
+    auto exact = [&](double upper_cost, size_t count) {
+      if (small || !whole) return true;
+      if (!has_budget_ || (limit_mm_ > 0 && upper_cost <= limit_mm_)) return false;
+      return kExactOrderShare * int64_t(count) >= triangles_over_budget();
+    };
+    Candidate c;
+    auto ahead = [&](const Candidate& c) {
+      __builtin_prefetch(&version_[c.remove]);
+      __builtin_prefetch(&version_[c.keep]);
+    };
+    while (r.queue.pop(c, current, exact, ahead, through)) {
+      // The loop waits on memory: the next candidates' data is asked for ahead.
+      if (const Candidate* n = r.queue.peek(kPrefetchVersions)) ahead(*n);
+      for (int stage = 0; stage < int(kPrefetchAhead.size()); ++stage)
+        if (const Candidate* n = r.queue.peek(kPrefetchAhead[size_t(stage)])) {
+          m_.prefetch(stage, n->remove);
+          m_.prefetch(stage, n->keep);
+        }
+      if (!current(c)) continue;
+      const bool within_error = limit_mm_ > 0 && c.cost <= limit_mm_;
+      if (!within_error && !has_budget_) continue;  // never pushed (push_edges)
+      int64_t units = 0;
+      if (whole) {
+        if (!within_error && !removes_from_part_over_budget(c.remove, c.keep)) continue;
+      } else {
+        if (!in_block_core(m_, core_, c.remove, c.keep, r.id)) continue;
+        if (!within_error) {
+          if (!block_budget_) continue;  // left for the loop over the whole surface
+          m_.for_edge_triangles(c.remove, c.keep, [&](uint32_t t) {
+            for (uint32_t m : m_.s.sides[t]) units += m != 0;
+          });
+          if (units > r.allowance) {  // this round's share is used up
+            r.queue.push(c);
+            r.stopped = true;
+            break;
+          }
+        }
+      }
+      if (!allowed(c, r.count)) continue;
+      // Beyond the error bound (a budget's collapse) the witnesses are only kept alive.
+      if (!m_.collapse_keeps_witnesses(c.remove, c.keep, c.position,
+                                       within_error ? limit_mm_ * limit_mm_ : kInfinity))
+        continue;
+      if (m_.crosses_nearby(c.remove, c.keep, c.position)) continue;
+      if (!whole && !m_.tris.try_room(c.keep, merged_size(c.remove, c.keep), r.room)) continue;
+      r.allowance -= units;
+      apply(c, r);
+      ++r.stats.collapses;
+      r.stats.largest_cost_mm = std::max(r.stats.largest_cost_mm, c.cost);
+    }
+  }
 
   // The best collapse of edge (a, b), if the roles allow one.
   std::optional<Candidate> candidate(uint32_t a, uint32_t b) const {
@@ -189,7 +248,8 @@ class Collapser {
     return best;
   }
 
-  void push_edges(uint32_t v, bool higher_only) {
+  // The candidates of v's edges into r's queue (in a block, only edges to its core vertices).
+  void push_edges(uint32_t v, bool higher_only, Region& r) {
     const ListPool::Lease around = m_.neighbours(v);
     for (uint32_t w : *around) {  // all asked for at once, not a miss at a time
       __builtin_prefetch(&m_.quadric[w]);
@@ -200,9 +260,10 @@ class Collapser {
     }
     for (uint32_t w : *around) {
       if (higher_only && w < v) continue;
+      if (r.id != Region::kWhole && core_[w] != r.id) continue;
       const auto c = candidate(v, w);
       // Without a budget a collapse above the error bound is never made: not worth a heap entry.
-      if (c && (has_budget_ || c->cost <= limit_mm_)) queue_.push(*c);
+      if (c && (has_budget_ || c->cost <= limit_mm_)) r.queue.push(*c);
     }
   }
 
@@ -229,7 +290,9 @@ class Collapser {
     return false;
   }
 
-  bool allowed(const Candidate& c) const {
+  // `count`: the triangles by material that no part may drop below the minimum of (the whole
+  // surface's, or a block's own).
+  bool allowed(const Candidate& c, const int64_t* count) const {
     const uint32_t u = c.remove, v = c.keep;
     // Triangle counts: no part below the minimum.
     const ListPool::Lease removed_lease = m_.pool().take();
@@ -241,7 +304,7 @@ class Collapser {
         if (m == 0) continue;
         int64_t lost = 0;
         for (uint32_t t : removed) lost += (m_.s.sides[t][0] == m) + (m_.s.sides[t][1] == m);
-        if (count_[m] - lost < kMinPartTriangles) return false;
+        if (count[m] - lost < kMinPartTriangles) return false;
       }
     // Geometry: no turned, degenerate or new sliver triangle. Before the link checks: most
     // refusals are new slivers (421 000 of 454 000 on the phantom at 0.2 mm), and these are cheap.
@@ -313,13 +376,19 @@ class Collapser {
     return true;
   }
 
-  void apply(const Candidate& c) {
+  void apply(const Candidate& c, Region& r) {
     m_.for_edge_triangles(c.remove, c.keep, [&](uint32_t t) {
       for (uint32_t m : m_.s.sides[t])
-        if (m != 0) --count_[m];
+        if (m != 0) {
+          --r.count[m];
+          if (r.id != Region::kWhole) {
+            --r.units;
+            r.lost.push_back(m);
+          }
+        }
     });
     collapse(c);
-    push_edges(c.keep, false);
+    push_edges(c.keep, false, r);
   }
 
   // The collapse itself, checked: triangles, position, quadric, witnesses, the lists of the
@@ -330,16 +399,25 @@ class Collapser {
     // The triangles on the edge die; their third corners (and v) hold them in their lists.
     const ListPool::Lease apexes_lease = m_.pool().take();
     std::vector<uint32_t>& apexes = *apexes_lease;
-    m_.tris.reserve(v, uint32_t(m_.tris[u].size()));  // no list moves in the loop
+    uint32_t moving = 0;
+    for (uint32_t t : m_.tris[u]) {
+      if (!m_.alive_tri[t]) continue;
+      if (!m_.has(t, v)) {
+        ++moving;
+        continue;
+      }
+      m_.alive_tri[t] = 0;
+      const uint32_t* i = &m_.s.mesh.indices[3 * size_t(t)];
+      for (int k = 0; k < 3; ++k)
+        if (i[k] != u && i[k] != v) apexes.push_back(i[k]);
+    }
+    // v's list drops its dead triangles (the edge's among them) before it takes u's others, so
+    // the merged list mostly fits where v's is (in the block phase the caller made the room).
+    m_.prune(v);
+    m_.tris.reserve(v, moving);
     for (uint32_t t : m_.tris[u]) {
       if (!m_.alive_tri[t]) continue;
       uint32_t* i = &m_.s.mesh.indices[3 * size_t(t)];
-      if (m_.has(t, v)) {
-        m_.alive_tri[t] = 0;
-        for (int k = 0; k < 3; ++k)
-          if (i[k] != u && i[k] != v) apexes.push_back(i[k]);
-        continue;
-      }
       for (int k = 0; k < 3; ++k)
         if (i[k] == u) i[k] = v;
       m_.tris.push_back(v, t);
@@ -354,192 +432,123 @@ class Collapser {
     m_.junction_vertex[v] |= m_.junction_vertex[u];  // where the shell may touch itself, v now stands
     // Dead triangles leave the lists of the vertices that held them.
     for (uint32_t w : apexes) m_.prune(w);
-    m_.prune(v);
   }
 
-  bool admissible(const Candidate& c) const { return has_budget_ || c.cost <= limit_mm_; }
+  // The size of v's triangle list after the collapse of u into v.
+  uint32_t merged_size(uint32_t u, uint32_t v) const {
+    uint32_t n = 0;
+    for (uint32_t x : {u, v})
+      for (uint32_t t : m_.tris[x]) n += m_.kept_by_collapse(t, u, v);
+    return n;
+  }
 
-  // Rounds of collapses in parallel before the cheapest-first loop (decimation.hpp). Every
-  // vertex keeps its best admissible collapse, made again only when a collapse changed its
-  // neighbourhood (or refused: until then). A round takes the cheaper half of them by cost
-  // bucket, in bucket order (ties by vertex id), each unless its region (the two vertices and
-  // their neighbours) meets one taken before, so no two taken collapses read or write the same
-  // vertex, triangle list or witness list; then checks and makes them on all threads. The
-  // triangle counts are reserved when a collapse is taken, so no part falls below its minimum
-  // (or, beyond the error bound, below kRoundsBudgetMargin times a budget) whatever is refused.
-  // Deterministic: the order is fixed before the parallel part.
-  void parallel_rounds(DecimationStats& stats) {
-    const size_t nv = m_.pos.size();
-    if (!options_.parallel_rounds || nv < kParallelMinVertices || !(limit_mm_ > 0 || has_budget_))
-      return;
-    enum : uint8_t { kDirty, kHas, kNone };
-    std::vector<Candidate> best(nv);
-    std::vector<uint8_t> state(nv, kDirty);
-    std::vector<uint32_t> refused(nv, ~0u);  // the neighbour of a refused best, skipped
-    std::vector<uint16_t> bucket(nv);  // best's cost bucket: the scans below stay in cache
-    auto keep_better = [&](uint32_t x, const std::optional<Candidate>& c) {
-      if (c && admissible(*c) && (state[x] != kHas || best[x] < *c)) {
-        best[x] = *c;
-        bucket[x] = uint16_t(CostBuckets::bucket(c->cost));
-        state[x] = kHas;
-      }
-    };
-    std::vector<uint32_t> mark(nv, 0), order, histogram(CostBuckets::bucket_count());
-    std::vector<Candidate> taken;
-    std::vector<uint32_t> owner, lost_start, lost;  // per taken: its owner, its edge's triangles
-    std::vector<char> made;
-    std::vector<int64_t> reserved(count_.size());
-    const ListPool::Lease region_lease = m_.pool().take();
-    std::vector<uint32_t>& region = *region_lease;
-    std::vector<uint32_t> live_ids(nv);  // the live vertices, ascending: the scans' range
-    std::iota(live_ids.begin(), live_ids.end(), 0u);
-    for (uint32_t round = 1;; ++round) {
-      tbb::this_task_arena::isolate([&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, live_ids.size(), 2048), [&](const auto& r) {
-          for (size_t i = r.begin(); i < r.end(); ++i) {
-            const uint32_t x = live_ids[i];
-            if (state[x] != kDirty) continue;
-            state[x] = kNone;
-            if (!m_.alive_vertex[x]) continue;
-            const ListPool::Lease around = m_.neighbours(x);
-            for (uint32_t w : *around)
-              if (w != refused[x]) keep_better(x, candidate(x, w));
-          }
-        });
-      });
-      // The cheaper kRoundShare of the candidates (whole buckets; at least the cheapest bucket),
-      // in vertex order: neighbours in memory, and cheaper than cost order by a fifth.
-      std::fill(histogram.begin(), histogram.end(), 0);
-      size_t total = 0;
-      for (uint32_t x : live_ids)
-        if (state[x] == kHas) {
-          ++histogram[bucket[x]];
-          ++total;
-        }
-      if (total == 0) break;
-      size_t cut_bucket = 0;
-      for (size_t b = 0, sum = 0, found = 0; b < histogram.size(); ++b) {
-        if (histogram[b] == 0) continue;
-        sum += histogram[b];
-        if (found && sum > size_t(kRoundShare * double(total))) break;
-        cut_bucket = b;
-        found = 1;
-      }
-      order.clear();
-      for (uint32_t x : live_ids)
-        if (state[x] == kHas && bucket[x] <= cut_bucket) order.push_back(x);
-      // Take them in order, each where no region taken before reaches.
-      taken.clear();
-      owner.clear();
-      lost.clear();
-      lost_start.assign(1, 0);
-      std::fill(reserved.begin(), reserved.end(), 0);
-      int64_t reserved_all = 0;
-      const int64_t shells = shell_triangles();
-      for (uint32_t x : order) {
-        const Candidate& c = best[x];
-        // Marked: the regions taken and their neighbours, so the regions meet iff u or v is.
-        if (mark[c.remove] == round || mark[c.keep] == round) continue;
-        const size_t first_lost = lost.size();
-        m_.for_edge_triangles(c.remove, c.keep, [&](uint32_t t) { lost.push_back(t); });
-        const bool within_error = limit_mm_ > 0 && c.cost <= limit_mm_;
-        bool fits = true;
-        int64_t lost_all = 0;
-        for (size_t k = first_lost; k < lost.size(); ++k)
-          for (uint32_t m : m_.s.sides[lost[k]])
-            if (m != 0) {
-              reserved[m] += 1;
-              lost_all += 1;
-            }
-        for (size_t k = first_lost; k < lost.size(); ++k)
-          for (uint32_t m : m_.s.sides[lost[k]]) {
-            const int64_t left = count_[m] - reserved[m];
-            if (m != 0 && (left < kMinPartTriangles ||
-                           (!within_error && budget_[m] > 0 &&
-                            double(left) < kRoundsBudgetMargin * double(budget_[m]))))
-              fits = false;
-          }
-        if (!within_error && surface_budget_ > 0 &&
-            double(shells - reserved_all - lost_all) < kRoundsBudgetMargin * double(surface_budget_))
-          fits = false;
-        if (!fits) {
-          for (size_t k = first_lost; k < lost.size(); ++k)
-            for (uint32_t m : m_.s.sides[lost[k]])
-              if (m != 0) reserved[m] -= 1;
-          lost.resize(first_lost);
-          continue;
-        }
-        reserved_all += lost_all;
-        region.clear();
-        for (uint32_t y : {c.remove, c.keep})
-          for (uint32_t t : m_.tris[y])
-            if (m_.alive_tri[t])
-              for (int k = 0; k < 3; ++k) region.push_back(m_.s.mesh.indices[3 * size_t(t) + size_t(k)]);
-        std::sort(region.begin(), region.end());
-        region.erase(std::unique(region.begin(), region.end()), region.end());
-        for (uint32_t w : region)
-          for (uint32_t t : m_.tris[w])
-            if (m_.alive_tri[t])
-              for (int k = 0; k < 3; ++k) mark[m_.s.mesh.indices[3 * size_t(t) + size_t(k)]] = round;
-        // The collapse adds u's triangles to v's list: room made here, as lists move only
-        // when no other thread reads them.
-        m_.tris.reserve(c.keep, uint32_t(m_.tris[c.remove].size()));
-        taken.push_back(c);
-        owner.push_back(x);
-        lost_start.push_back(uint32_t(lost.size()));
-      }
-      // Check and make them on all threads.
-      made.assign(taken.size(), 0);
-      tbb::this_task_arena::isolate([&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, taken.size(), 16), [&](const auto& r) {
-          for (size_t k = r.begin(); k < r.end(); ++k) {
-            const Candidate& c = taken[k];
-            const bool within_error = limit_mm_ > 0 && c.cost <= limit_mm_;
-            if (!allowed(c) ||
-                !m_.collapse_keeps_witnesses(c.remove, c.keep, c.position,
-                                             within_error ? limit_mm_ * limit_mm_ : kInfinity,
-                                             /*far_ring=*/false) ||
-                m_.crosses_nearby(c.remove, c.keep, c.position)) {
-              // Refused: the next best edge next round, then none until a collapse nearby.
-              const uint32_t x = owner[k];
-              const bool first = refused[x] == ~0u;
-              refused[x] = x == c.remove ? c.keep : c.remove;
-              state[x] = first ? kDirty : kNone;
-              continue;
-            }
-            collapse(c);
-            state[c.remove] = kNone;  // gone
-            state[c.keep] = kDirty;
-            refused[c.keep] = ~0u;
-            // A neighbour whose best collapse is not along (u, v)'s edges keeps it unless its
-            // edge to v is now better; the others are made again next round.
-            const ListPool::Lease around = m_.neighbours(c.keep);
-            for (uint32_t w : *around) {
-              const Candidate& b = best[w];
-              if (state[w] == kHas && b.remove != c.remove && b.keep != c.remove &&
-                  b.remove != c.keep && b.keep != c.keep)
-                keep_better(w, candidate(w, c.keep));
-              else
-                state[w] = kDirty;
-              refused[w] = ~0u;
-            }
-            made[k] = 1;
-          }
-        });
-      });
-      int64_t count = 0;
-      for (size_t k = 0; k < taken.size(); ++k) {
-        if (!made[k]) continue;
-        for (uint32_t i = lost_start[k]; i < lost_start[k + 1]; ++i)
-          for (uint32_t m : m_.s.sides[lost[i]])
-            if (m != 0) --count_[m];
-        ++count;
-        stats.largest_cost_mm = std::max(stats.largest_cost_mm, taken[k].cost);
-      }
-      stats.collapses += count;
-      std::erase_if(live_ids, [&](uint32_t x) { return !m_.alive_vertex[x]; });
-      if (count < std::max(kRoundsEndCount, int64_t(live_ids.size()) / kRoundsEndShare)) break;
+  // The block phase before the cheapest-first loop over the whole surface (decimation.hpp):
+  // blocks of space collapse their own cores side by side, each cheapest first; with a budget,
+  // in rounds of one cost bucket at a time, so the blocks reach each cost together.
+  // Cubes of `side` millimetres, the grid shifted by `shift` sides. Returns the last cost bucket
+  // it collapsed beyond the error bound in. With a `cap` (a bucket; bucket_count(): none), it
+  // collapses beyond the bound only up to that bucket.
+  size_t block_phase(DecimationStats& stats, double side, double shift, size_t cap) {
+    const size_t nv = m_.pos.size(), materials = count_.size();
+    DecimationBlocks blocks = decimation_blocks(m_, side, shift, materials, kBlockCountsMax);
+    if (blocks.count == 0) return 0;
+    core_ = std::move(blocks.core);
+    block_count_ = std::move(blocks.sides);
+    std::vector<Region> regions(blocks.count);
+    for (uint32_t b = 0; b < blocks.count; ++b) {
+      Region& r = regions[b];
+      r.id = b;
+      r.count = &block_count_[size_t(b) * materials];
+      r.units = std::accumulate(r.count, r.count + materials, int64_t{0});
+      r.locked = blocks.locked[b];
+      r.vertices = std::move(blocks.vertices[b]);
     }
+    // With one budget for the whole surface (the shells' or a single part's), the blocks may
+    // collapse beyond the error bound too.
+    const bool single_part = count_.size() == 2;
+    const int64_t budget = surface_budget_ > 0 ? surface_budget_ : single_part ? budget_[1] : 0;
+    const bool other_budgets = !single_part && std::any_of(budget_.begin(), budget_.end(),
+                                                           [](int64_t b) { return b > 0; });
+    block_budget_ = budget > 0 && !other_budgets;
+    auto units = [&] { return surface_budget_ > 0 ? shell_triangles() : count_[1]; };
+    const size_t error_bucket = limit_mm_ > 0 ? CostBuckets::bucket(limit_mm_) : 0;
+    const size_t none = CostBuckets::bucket_count();
+    {
+      // Room for moved lists, by the blocks' core vertices.
+      const double room =
+          kBlockListRoom * double(m_.tris.entries()) / double(std::max<size_t>(1, nv));
+      for (Region& r : regions)
+        r.room = m_.tris.take_room(size_t(room * double(r.vertices.size())));
+    }
+    auto each_block = [&](auto&& f) {
+      tbb::this_task_arena::isolate([&] {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, regions.size(), 1), [&](const auto& range) {
+          for (size_t b = range.begin(); b < range.end(); ++b) f(regions[b]);
+        });
+      });
+    };
+    each_block([&](Region& r) {
+      for (uint32_t v : r.vertices) push_edges(v, /*higher_only=*/true, r);
+    });
+    // The blocks' triangles they can remove.
+    auto free = [](const Region& r) { return std::max<int64_t>(0, r.units - r.locked); };
+    auto owned = [&] {
+      return std::accumulate(regions.begin(), regions.end(), int64_t{0},
+                             [&](int64_t a, const Region& r) { return a + free(r); });
+    };
+    // Their share of the budget: what they are of all triangles (the rest, near the borders
+    // between blocks, stays as it is in this phase).
+    const double owned_budget =
+        double(budget) * double(owned()) / double(std::max<int64_t>(1, units()));
+    const int64_t unlimited = std::numeric_limits<int64_t>::max() / 2;
+    size_t reached = 0;
+    for (;;) {
+      size_t next = none;
+      for (const Region& r : regions) next = std::min(next, r.queue.next_bucket());
+      if (next == none) break;
+      // Beyond the error bound: the first grid while the blocks' triangles are above
+      // kBlockBudgetStop times their share, the second up to the cost the first reached.
+      int64_t over = 0;
+      if (block_budget_ && cap == none && double(owned()) > kBlockBudgetStop * owned_budget)
+        over = owned() - int64_t(std::ceil(kBlockBudgetTarget * owned_budget));
+      if (block_budget_ && cap != none && next <= cap) over = unlimited;
+      size_t through = next;
+      if (over <= 0) {
+        // Within the error bound only: every block to the end of it in one round.
+        if (!(limit_mm_ > 0) || next > error_bucket) break;
+        through = error_bucket;
+      } else {
+        reached = through;
+      }
+      const int64_t all = owned();
+      bool stopped = false;
+      for (Region& r : regions) {
+        r.allowance = over == unlimited     ? unlimited
+                      : over > 0 && all > 0 ? int64_t(double(over) * double(free(r)) / double(all))
+                                            : 0;
+        r.stopped = false;
+      }
+      const int64_t before =
+          std::accumulate(regions.begin(), regions.end(), int64_t{0},
+                          [](int64_t a, const Region& r) { return a + r.stats.collapses; });
+      each_block([&](Region& r) { collapse_loop(r, through); });
+      int64_t after = 0;
+      for (Region& r : regions) {
+        for (uint32_t m : r.lost) --count_[m];
+        r.lost.clear();
+        after += r.stats.collapses;
+        stopped = stopped || r.stopped;
+      }
+      if (after == before && stopped) break;  // shares too small to take a collapse
+    }
+    for (const Region& r : regions) {
+      stats.collapses += r.stats.collapses;
+      stats.largest_cost_mm = std::max(stats.largest_cost_mm, r.stats.largest_cost_mm);
+    }
+    block_budget_ = false;
+    core_ = {};
+    block_count_ = {};
+    return reached;
   }
 
   DecimationMesh m_;
@@ -549,6 +558,12 @@ class Collapser {
   std::vector<int64_t> count_, budget_;  // by material
   int64_t surface_budget_ = 0;           // for the shells' triangles together
   bool has_budget_ = false;
+  // The block phase: each vertex's block when it is a core vertex (else
+  // DecimationBlocks::kBorder), the blocks' triangle counts by material, and whether blocks
+  // collapse beyond the error bound.
+  std::vector<uint32_t> core_;
+  std::vector<int64_t> block_count_;
+  bool block_budget_ = false;
 
   // The fewest triangles a budget still wants removed: of the shells (the surface's budget) or
   // of a part over its own; 0 when all are within.
@@ -561,7 +576,7 @@ class Collapser {
   }
 
   int64_t shell_triangles() const { return std::accumulate(count_.begin() + 1, count_.end(), int64_t{0}); }
-  CostBuckets queue_;
+  Region whole_;
 };
 
 

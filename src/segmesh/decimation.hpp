@@ -56,20 +56,26 @@
 // collapses an edge of every sliver (radii ratio below 0.05) when the collapse's cost is within
 // the bound and its checks pass.
 //
-// Order: with `parallel_rounds`, first parallel rounds; then cheapest first. A round takes every vertex's cheapest
-// admissible collapse (within the error bound; with a budget, any), keeps the cheaper half by
-// cost bucket, and of those, in vertex order, every one whose region (its two vertices and their
-// neighbours) meets no region taken before; the taken collapses are checked (every check above;
-// a witness only among the triangles around the merged vertex) and made on all threads at once,
-// as they touch disjoint vertices, triangle lists and witness lists. Triangle counts are reserved
-// when a collapse is taken, so no part falls below the minimum, nor, beyond the error bound,
-// below 1.5 times a budget. The rounds end when one makes fewer collapses than 1/256 of the live
-// vertices; the rest go cheapest first by octaves of cost, each octave swept in vertex order so
-// the checks read memory in the order the surface is stored (an octave a budget may stop in
-// keeps buckets 4.4 % wide, as does a surface small enough for the cache throughout;
-// detail/decimation_order.hpp).
-// Deterministic: what a round takes is fixed before its parallel part and the order of the rest
-// by the pushes, so the result does not depend on the thread count.
+// Order: first a block phase on all threads, then the rest cheapest first on one. The block
+// phase (surfaces of 32 768 vertices or more) lays a grid of cubes over the surface, each
+// holding about 16 384 vertices (detail/decimation_blocks.hpp). A vertex whose triangles all lie
+// in its cube is that block's core; a block collapses only edges whose two ends and all their
+// neighbours are its core, so what one collapse reads and writes lies in its block, and the
+// blocks run side by side, each cheapest first from its own buckets, each keeping its own
+// parts above the minimum. Without a budget every block goes to the end of the error bound at
+// once. With one budget for the surface (the scene's on a conforming surface, a part's on an
+// independent one), the blocks go in rounds of one cost bucket (4.4 % of an octave) together,
+// and beyond the error bound each may remove its share (by the triangles it can remove) of the
+// triangles above 1.25 times the blocks' share of the budget; they stop at 1.5 times it. The
+// phase runs twice, the second grid shifted by half a cube so that the first one's borders lie
+// inside its blocks, and beyond the error bound only up to the cost the first reached. The
+// loop over the whole surface then takes what is left (collapses along the borders, and a
+// budget's last collapses, so a budget ends in one cheapest-first order over the whole
+// surface), by octaves of cost, each octave swept in vertex order so the checks read memory in
+// the order the surface is stored (an octave a budget may stop in keeps buckets 4.4 % wide, as
+// does a surface small enough for the cache throughout; detail/decimation_order.hpp).
+// Deterministic: the blocks, their rounds and their order do not depend on the threads, so
+// neither does the result.
 // Cost: O(T) bucket operations for T triangles plus the checks, a few hundred bytes per vertex.
 #pragma once
 
@@ -89,10 +95,8 @@ struct DecimateOptions {
   double error_mm = 0;                 // > 0: collapse while the quadric error stays below
   int64_t max_triangles = 0;           // > 0: the scene's budget (see "Stop" above)
   int64_t max_triangles_per_part = 0;  // > 0: every part's budget
-  // The parallel rounds before the cheapest-first loop ("Order" above). Off: on the 2-vCPU
-  // machine they measured 13 % more CPU than the loop alone at one thread and no gain in wall
-  // time at two (docs/DECIMATION.md); on idle cores they may pay.
-  bool parallel_rounds = false;
+  // The block phase before the cheapest-first loop ("Order" above); off, the loop alone.
+  bool blocks = true;
   bool active() const { return error_mm > 0 || max_triangles > 0 || max_triangles_per_part > 0; }
 };
 

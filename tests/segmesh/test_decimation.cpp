@@ -286,23 +286,36 @@ TEST(Decimation, IsDeterministic) {
   expect_same_meshes(a, b);
 }
 
-// The parallel rounds (off by default) keep the parts sound and the bound, and take their
-// collapses before the parallel part: one thread or several give the same surface.
-TEST(Decimation, ParallelRoundsKeepTheBoundAndDoNotDependOnTheThreadCount) {
+// The block phase (on by default; the test-size phantom's surface has about 116 000 vertices, 7
+// blocks) keeps the parts sound and the bound, and its result does not depend on the thread
+// count; without it the loop alone does the same.
+TEST(Decimation, BlocksKeepTheBoundAndDoNotDependOnTheThreadCount) {
   const Image image = small_phantom();
   MeshingOptions o;
   const Scene before = build_scene(image, o);
-  o.decimate.error_mm = 0.2;
-  o.decimate.parallel_rounds = true;
-  const Scene several = build_scene(image, o);
-  expect_sound_parts(several);
-  ASSERT_EQ(several.parts.size(), before.parts.size());
-  for (size_t p = 0; p < several.parts.size(); ++p)
-    EXPECT_LE(sampled_hausdorff(before.parts[p].mesh, several.parts[p].mesh), 0.2 + kFloatTolerance)
-        << several.parts[p].name;
-  EXPECT_GE(total_triangles(before), 5 * total_triangles(several));
-  const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
-  expect_same_meshes(several, build_scene(image, o));
+  for (const bool blocks : {true, false}) {
+    o.decimate.error_mm = 0.2;
+    o.decimate.blocks = blocks;
+    const Scene several = build_scene(image, o);
+    expect_sound_parts(several);
+    ASSERT_EQ(several.parts.size(), before.parts.size());
+    for (size_t p = 0; p < several.parts.size(); ++p)
+      EXPECT_LE(sampled_hausdorff(before.parts[p].mesh, several.parts[p].mesh),
+                0.2 + kFloatTolerance)
+          << several.parts[p].name << (blocks ? " (blocks)" : " (loop)");
+    EXPECT_GE(total_triangles(before), 5 * total_triangles(several));
+    o.decimate.error_mm = 0;
+    o.decimate.max_triangles = 20000;
+    const Scene budget = build_scene(image, o);
+    expect_sound_parts(budget);
+    EXPECT_LE(total_triangles(budget), 20000);
+    EXPECT_GE(total_triangles(budget), 19000);
+    const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    expect_same_meshes(budget, build_scene(image, o));
+    o.decimate.max_triangles = 0;
+    o.decimate.error_mm = 0.2;
+    expect_same_meshes(several, build_scene(image, o));
+  }
 }
 
 TEST(Decimation, BadValuesAreRefusedNamingTheOption) {

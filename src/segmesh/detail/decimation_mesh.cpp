@@ -47,6 +47,25 @@ void VertexTriangles::move(uint32_t v, uint32_t need) {
   h.cap = cap;
 }
 
+VertexTriangles::Room VertexTriangles::take_room(size_t entries) {
+  const size_t start = data_.size();
+  const size_t end = std::min<size_t>(start + entries, std::numeric_limits<uint32_t>::max());
+  data_.resize(end);
+  return {start, end};
+}
+
+bool VertexTriangles::try_room(uint32_t v, uint32_t size, Room& room) {
+  Head& h = head_[v];
+  if (size <= h.cap) return true;
+  const uint32_t cap = std::max({size, h.size, 2 * h.cap});
+  if (room.next + cap > room.end) return false;
+  std::copy_n(data_.begin() + h.start, h.size, data_.begin() + ptrdiff_t(room.next));
+  h.start = uint32_t(room.next);
+  h.cap = cap;
+  room.next += cap;
+  return true;
+}
+
 DecimationMesh::DecimationMesh(LabelledSurface& surface, bool witnessing_)
     : s(surface), witnessing(witnessing_) {
   const size_t nv = s.mesh.positions.size(), nt = s.sides.size();

@@ -76,7 +76,8 @@ class ListPool {
 // vertex order, so the lists of neighbouring vertices share cache lines; per-vertex vectors were
 // millions of small heap blocks, a miss for the header and another for the block. A list keeps
 // its order through push_back, erase and erase_if. Only reserve and push_back may move lists
-// (and so invalidate every span of the pool): the parallel rounds reserve before they collapse.
+// (and so invalidate every span of the pool). In the block phase of decimation.cpp (one thread
+// per block) the pool does not grow: a list moves only into room taken beforehand (try_room).
 class VertexTriangles {
  public:
   // The triangles of `indices` (nt triangles) per corner, in triangle order.
@@ -88,6 +89,17 @@ class VertexTriangles {
   void reserve(uint32_t v, uint32_t more) {
     if (head_[v].size + more > head_[v].cap) move(v, head_[v].size + more);
   }
+  size_t entries() const { return data_.size(); }  // in the lists and their room
+  // The block phase: room for moved lists, taken for each block before it starts (so what a
+  // block's moves find does not depend on the other blocks).
+  struct Room {
+    size_t next = 0, end = 0;
+  };
+  Room take_room(size_t entries);
+  // Room for `size` entries in v's list, from `room` when the list must move: false when that
+  // is used up (the list stays where it is). For the block phase: threads work side by side,
+  // each in its own vertices' lists and its own room.
+  bool try_room(uint32_t v, uint32_t size, Room& room);
   void push_back(uint32_t v, uint32_t t) {
     reserve(v, 1);
     Head& h = head_[v];

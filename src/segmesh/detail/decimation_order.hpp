@@ -58,14 +58,17 @@ class CostBuckets {
   bool pop(Candidate& out, Current&& current, Exact&& exact) {
     return pop(out, current, exact, [](const Candidate&) {});
   }
+  // With `through`, only from the buckets up to that one (false when they are empty).
   template <class Current, class Exact, class Ahead>
-  bool pop(Candidate& out, Current&& current, Exact&& exact, Ahead&& ahead) {
+  bool pop(Candidate& out, Current&& current, Exact&& exact, Ahead&& ahead,
+           size_t through = std::numeric_limits<size_t>::max()) {
     while (first_ < buckets_.size()) {
       std::vector<Candidate>& b = buckets_[first_];
       if (b.empty()) {
         ++first_;
         continue;
       }
+      if (first_ > through) return false;
       if (!sorted_[first_]) {
         sorted_[first_] = 1;
         const size_t octave_end = std::min(buckets_.size(), (first_ / kPerOctave + 1) * kPerOctave);
@@ -104,6 +107,12 @@ class CostBuckets {
     if (first_ >= buckets_.size() || !sorted_[first_]) return nullptr;
     const std::vector<Candidate>& b = buckets_[first_];
     return ahead < b.size() ? &b[b.size() - 1 - ahead] : nullptr;
+  }
+  // The first bucket holding candidates (current or not), bucket_count() when none does.
+  size_t next_bucket() const {
+    size_t b = first_;
+    while (b < buckets_.size() && buckets_[b].empty()) ++b;
+    return b;
   }
   void push(const Candidate& c) {
     const size_t b = bucket(c.cost);

@@ -1,7 +1,7 @@
 // The cost buckets of decimation (detail/decimation_order.hpp): cheapest octave first; within an
 // octave, vertex order when its order does not matter and buckets 1/16 of an octave wide when it
 // does (a budget may stop there); candidates no longer current dropped; candidates pushed into a
-// bucket already reached first.
+// bucket already reached first; pops up to a bucket.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -55,6 +55,23 @@ TEST(DecimationOrder, AnOctaveWhoseOrderMattersGoesCheapestFirst) {
   push_spread(q);
   // Each fine bucket 4.4 % wide: 0.11, 0.13, 0.15 and 0.19 fall in four of them.
   EXPECT_EQ(drain(q, kAll, kAlways), (std::vector<uint32_t>{9, 7, 2, 5}));
+}
+
+// The block phase's rounds: pops stop after a given bucket; next_bucket names the first that
+// holds candidates.
+TEST(DecimationOrder, PopsStopAfterTheBucketAskedFor) {
+  CostBuckets q;
+  EXPECT_EQ(q.next_bucket(), CostBuckets::bucket_count());
+  push_spread(q);
+  const size_t b13 = CostBuckets::bucket(0.13);
+  EXPECT_EQ(q.next_bucket(), CostBuckets::bucket(0.11));
+  std::vector<uint32_t> order;
+  Candidate c;
+  auto none = [](const Candidate&) {};
+  while (q.pop(c, kAll, kAlways, none, b13)) order.push_back(c.keep);
+  EXPECT_EQ(order, (std::vector<uint32_t>{9, 7}));
+  EXPECT_EQ(q.next_bucket(), CostBuckets::bucket(0.15));
+  EXPECT_EQ(drain(q, kAll, kAlways), (std::vector<uint32_t>{2, 5}));
 }
 
 TEST(DecimationOrder, ExactIsAskedWithTheOctavesBoundAndCount) {
