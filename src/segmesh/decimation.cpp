@@ -392,8 +392,8 @@ class Collapser {
   }
 
   // The collapse itself, checked: triangles, position, quadric, witnesses, the lists of the
-  // vertices around. Touches only u, v, their neighbours and the triangles around those
-  // (the parallel rounds rely on it); the caller counts the removed triangles.
+  // vertices around. Touches only u, v, their neighbours and the triangles around those (the
+  // block phase relies on it); the caller counts the removed triangles.
   void collapse(const Candidate& c) {
     const uint32_t u = c.remove, v = c.keep;
     // The triangles on the edge die; their third corners (and v) hold them in their lists.

@@ -247,7 +247,7 @@ void DecimationMesh::add_fan(uint32_t y, Corner&& corner, bool collapse, uint32_
 
 // The collapse of u into v at `position` (u == v: the move of v to `position`).
 bool DecimationMesh::collapse_keeps_witnesses(uint32_t u, uint32_t v, Vec3d position,
-                                              double limit2, bool far_ring) {
+                                              double limit2) {
   const bool collapse = u != v;
   if (!witnessing) {
     // What the witnesses refused even without a bound: a collapse that leaves no live triangle
@@ -260,7 +260,6 @@ bool DecimationMesh::collapse_keeps_witnesses(uint32_t u, uint32_t v, Vec3d posi
       return false;
     };
     if (outside_edge(u) || outside_edge(v)) return true;
-    if (!far_ring) return false;
     for (uint32_t y : {u, v}) {
       const ListPool::Lease ring = neighbours(y);
       for (uint32_t w : *ring)
@@ -290,7 +289,6 @@ bool DecimationMesh::collapse_keeps_witnesses(uint32_t u, uint32_t v, Vec3d posi
     return with_v ? v_moves : u_moves;
   };
   return rewitness(*changed, limit2, shift, [&] {
-    if (!far_ring) return;
     for (size_t k = 0; k < count; ++k) {
       const ListPool::Lease ring = neighbours(around[k]);
       for (uint32_t w : *ring)

@@ -187,8 +187,8 @@ struct ChangedTriangle {
   double shift;
 };
 
-// What the checks build and throw away, one per thread (the parallel rounds of decimation.cpp
-// check collapses on every core): id lists, a check's candidate witnesses (`fan`), and its new
+// What the checks build and throw away, one per thread (the block phase of decimation.cpp
+// checks collapses on every core): id lists, a check's candidate witnesses (`fan`), and its new
 // witnesses and changed triangles for commit_witnesses.
 struct DecimationScratch {
   ListPool pool;
@@ -276,11 +276,9 @@ struct DecimationMesh {
 
   // Witness checks, each leaving the new witnesses in `pending`. limit2: the squared bound
   // (infinity: any triangle will do, to keep every witness alive).
-  // The collapse of u into v at `position` (u == v: the move of v to `position`). Without
-  // `far_ring`, only the triangles around the merged vertex may witness, so the check and
-  // commit_witnesses touch no triangle with a corner beyond the two vertices' neighbours.
-  bool collapse_keeps_witnesses(uint32_t u, uint32_t v, Vec3d position, double limit2,
-                                bool far_ring = true);
+  // The collapse of u into v at `position` (u == v: the move of v to `position`). The check and
+  // commit_witnesses touch the triangles around the two vertices and around their neighbours.
+  bool collapse_keeps_witnesses(uint32_t u, uint32_t v, Vec3d position, double limit2);
   // The flip of t1 and t2 into `new1` and `new2` over the quad's `corners`.
   bool flip_keeps_witnesses(uint32_t t1, uint32_t t2, const std::array<uint32_t, 3>& new1,
                             const std::array<uint32_t, 3>& new2,
