@@ -286,23 +286,25 @@ TEST(Decimation, IsDeterministic) {
   expect_same_meshes(a, b);
 }
 
-// The block phase (on by default; the test-size phantom's surface has about 116 000 vertices, 7
-// blocks) keeps the parts sound and the bound, and its result does not depend on the thread
-// count; without it the loop alone does the same.
+// The block phase (by default with a budget alone; the test-size phantom's surface has about
+// 116 000 vertices, 7 blocks) keeps the parts sound and, here, the bound, and its result does
+// not depend on the thread count; without it the loop alone does the same.
 TEST(Decimation, BlocksKeepTheBoundAndDoNotDependOnTheThreadCount) {
   const Image image = small_phantom();
   MeshingOptions o;
   const Scene before = build_scene(image, o);
-  for (const bool blocks : {true, false}) {
+  using Blocks = DecimateOptions::Blocks;
+  for (const Blocks blocks : {Blocks::kAlways, Blocks::kNever}) {
     o.decimate.error_mm = 0.2;
     o.decimate.blocks = blocks;
+    const bool with = blocks == Blocks::kAlways;
     const Scene several = build_scene(image, o);
     expect_sound_parts(several);
     ASSERT_EQ(several.parts.size(), before.parts.size());
     for (size_t p = 0; p < several.parts.size(); ++p)
       EXPECT_LE(sampled_hausdorff(before.parts[p].mesh, several.parts[p].mesh),
                 0.2 + kFloatTolerance)
-          << several.parts[p].name << (blocks ? " (blocks)" : " (loop)");
+          << several.parts[p].name << (with ? " (blocks)" : " (loop)");
     EXPECT_GE(total_triangles(before), 5 * total_triangles(several));
     o.decimate.error_mm = 0;
     o.decimate.max_triangles = 20000;
