@@ -93,6 +93,34 @@ int64_t total_triangles(const Scene& scene) {
   return n;
 }
 
+// Every vertex of every contact of a decimated conforming scene lies on both parts' shells, and
+// no part crosses another.
+void expect_contacts_shared(const Scene& after) {
+  ASSERT_TRUE(after.surface.has_value());
+  const LabelledSurface& s = *after.surface;
+  std::vector<MeshDistance> shells;
+  for (const Part& part : after.parts) shells.emplace_back(part.mesh);
+  size_t contact_vertices = 0;
+  double worst = 0;
+  for (size_t t = 0; t < s.sides.size(); ++t) {
+    const auto [in, out] = s.sides[t];
+    if (in == 0 || out == 0) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3d p = to_double(s.mesh.positions[s.mesh.indices[3 * t + size_t(k)]]);
+      worst = std::max({worst, shells[in - 1].distance(p), shells[out - 1].distance(p)});
+      ++contact_vertices;
+    }
+  }
+  EXPECT_GT(contact_vertices, 100u);
+  EXPECT_LT(worst, 1e-4);
+  const SceneMeasures m = measure_scene(after, {});
+  ASSERT_EQ(m.contacts.size(), 8u);
+  for (const ContactMeasures& c : m.contacts) {
+    EXPECT_EQ(test::crossings(after.parts[c.a].mesh, after.parts[c.b].mesh), 0u)
+        << after.parts[c.a].name << " " << after.parts[c.b].name;
+  }
+}
+
 // Float tolerance on the error bound: positions are stored in float (1e-6 relative of ~100 mm).
 constexpr double kFloatTolerance = 1e-4;
 
@@ -161,6 +189,7 @@ TEST(Decimation, ThePhantomToABudgetStaysWithinTwoVoxels) {
     EXPECT_LE(sampled_hausdorff(before.parts[p].mesh, after.parts[p].mesh), two_voxels)
         << after.parts[p].name;
   }
+  expect_contacts_shared(after);  // the block phase ran (a budget alone)
 }
 
 // The witnesses hold every original vertex within the bound through the collapses, the flips
@@ -219,29 +248,7 @@ TEST(Decimation, ThePhantomWithinTwoTenthsOfAMillimetreKeepsItsContacts) {
   std::printf("phantom (test size): %lld -> %lld triangles, slivers %lld -> %lld\n",
               (long long)n0, (long long)n1, (long long)slivers_before, (long long)slivers_after);
 
-  // Every vertex of every contact lies on both parts' shells, and no part crosses another.
-  const LabelledSurface& s = *after.surface;
-  std::vector<MeshDistance> shells;
-  for (const Part& part : after.parts) shells.emplace_back(part.mesh);
-  size_t contact_vertices = 0;
-  double worst = 0;
-  for (size_t t = 0; t < s.sides.size(); ++t) {
-    const auto [in, out] = s.sides[t];
-    if (in == 0 || out == 0) continue;
-    for (int k = 0; k < 3; ++k) {
-      const Vec3d p = to_double(s.mesh.positions[s.mesh.indices[3 * t + size_t(k)]]);
-      worst = std::max({worst, shells[in - 1].distance(p), shells[out - 1].distance(p)});
-      ++contact_vertices;
-    }
-  }
-  EXPECT_GT(contact_vertices, 100u);
-  EXPECT_LT(worst, 1e-4);
-  const SceneMeasures m = measure_scene(after, {});
-  ASSERT_EQ(m.contacts.size(), 8u);
-  for (const ContactMeasures& c : m.contacts) {
-    EXPECT_EQ(test::crossings(after.parts[c.a].mesh, after.parts[c.b].mesh), 0u)
-        << after.parts[c.a].name << " " << after.parts[c.b].name;
-  }
+  expect_contacts_shared(after);
 }
 
 TEST(Decimation, TheReportMeasuresTheDecimatedPartsAgainstTheUndecimatedOnes) {
@@ -306,12 +313,14 @@ TEST(Decimation, BlocksKeepTheBoundAndDoNotDependOnTheThreadCount) {
                 0.2 + kFloatTolerance)
           << several.parts[p].name << (with ? " (blocks)" : " (loop)");
     EXPECT_GE(total_triangles(before), 5 * total_triangles(several));
+    expect_contacts_shared(several);
     o.decimate.error_mm = 0;
     o.decimate.max_triangles = 20000;
     const Scene budget = build_scene(image, o);
     expect_sound_parts(budget);
     EXPECT_LE(total_triangles(budget), 20000);
     EXPECT_GE(total_triangles(budget), 19000);
+    expect_contacts_shared(budget);
     const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
     expect_same_meshes(budget, build_scene(image, o));
     o.decimate.max_triangles = 0;
