@@ -494,10 +494,10 @@ class Collapser {
       for (uint32_t v : r.vertices) push_edges(v, /*higher_only=*/true, r);
     });
     // The blocks' triangles they can remove.
-    auto free = [](const Region& r) { return std::max<int64_t>(0, r.units - r.locked); };
+    auto removable = [](const Region& r) { return std::max<int64_t>(0, r.units - r.locked); };
     auto owned = [&] {
       return std::accumulate(regions.begin(), regions.end(), int64_t{0},
-                             [&](int64_t a, const Region& r) { return a + free(r); });
+                             [&](int64_t a, const Region& r) { return a + removable(r); });
     };
     // Their share of the budget: what they are of all triangles (the rest, near the borders
     // between blocks, stays as it is in this phase).
@@ -526,9 +526,10 @@ class Collapser {
       const int64_t all = owned();
       bool stopped = false;
       for (Region& r : regions) {
-        r.allowance = over == unlimited     ? unlimited
-                      : over > 0 && all > 0 ? int64_t(double(over) * double(free(r)) / double(all))
-                                            : 0;
+        r.allowance = over == unlimited ? unlimited
+                      : over > 0 && all > 0
+                          ? int64_t(double(over) * double(removable(r)) / double(all))
+                          : 0;
         r.stopped = false;
       }
       const int64_t before =

@@ -4,15 +4,13 @@
 #include <cmath>
 #include <limits>
 
+#include "segmesh/mesh_measures.hpp"
+
 namespace segmesh {
 
 double decimation_block_side(const DecimationMesh& m, size_t per_block) {
   const size_t nv = m.pos.size();
-  double area = 0;
-  for (size_t t = 0; t < m.s.sides.size(); ++t) {
-    const uint32_t* i = &m.s.mesh.indices[3 * t];
-    area += 0.5 * norm(cross(m.pos[i[1]] - m.pos[i[0]], m.pos[i[2]] - m.pos[i[0]]));
-  }
+  const double area = surface_area(m.s.mesh);  // before any collapse: m.pos are its positions
   const double side = std::sqrt(area * double(per_block) / double(std::max<size_t>(1, nv)));
   return side > 0 && std::isfinite(side) ? side : 0;
 }

@@ -37,14 +37,20 @@ void VertexTriangles::build(size_t nv, const std::vector<uint32_t>& indices, siz
     }
 }
 
-void VertexTriangles::move(uint32_t v, uint32_t need) {
+// A list that outgrows its room moves to `start` with room for `need` or twice its room.
+uint32_t VertexTriangles::relocate(uint32_t v, uint32_t need, size_t start) {
   Head& h = head_[v];
   const uint32_t cap = std::max(need, 2 * h.cap);
-  const size_t start = data_.size();
-  data_.resize(start + cap);
   std::copy_n(data_.begin() + h.start, h.size, data_.begin() + ptrdiff_t(start));
   h.start = uint32_t(start);
   h.cap = cap;
+  return cap;
+}
+
+void VertexTriangles::move(uint32_t v, uint32_t need) {
+  const size_t start = data_.size();
+  data_.resize(start + std::max(need, 2 * head_[v].cap));
+  relocate(v, need, start);
 }
 
 VertexTriangles::Room VertexTriangles::take_room(size_t entries) {
@@ -55,14 +61,9 @@ VertexTriangles::Room VertexTriangles::take_room(size_t entries) {
 }
 
 bool VertexTriangles::try_room(uint32_t v, uint32_t size, Room& room) {
-  Head& h = head_[v];
-  if (size <= h.cap) return true;
-  const uint32_t cap = std::max({size, h.size, 2 * h.cap});
-  if (room.next + cap > room.end) return false;
-  std::copy_n(data_.begin() + h.start, h.size, data_.begin() + ptrdiff_t(room.next));
-  h.start = uint32_t(room.next);
-  h.cap = cap;
-  room.next += cap;
+  if (size <= head_[v].cap) return true;
+  if (room.next + std::max(size, 2 * head_[v].cap) > room.end) return false;
+  room.next += relocate(v, size, room.next);
   return true;
 }
 

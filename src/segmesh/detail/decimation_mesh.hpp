@@ -123,6 +123,7 @@ class VertexTriangles {
     uint32_t start = 0, size = 0, cap = 0;
   };
   void move(uint32_t v, uint32_t need);
+  uint32_t relocate(uint32_t v, uint32_t need, size_t start);  // returns the new room
   std::vector<Head> head_;
   std::vector<uint32_t> data_;
 };
