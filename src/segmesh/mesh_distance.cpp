@@ -358,11 +358,11 @@ struct DirectionSamples {
 SampleDistances measure_chosen(const DirectionSamples& samples, size_t stride) {
   return measure_in_blocks(samples.count(), [&](size_t begin, size_t end, std::vector<double>& out) {
     RecentTriangles recent;
-    for (size_t s = begin; s < end; ++s) {
+    for_each_chosen(begin, end, stride, [&](size_t s) {
       Vec3d p;
-      if (!stratum_chosen(s, stride) || !samples.get(s, p)) continue;
-      out.push_back(std::sqrt(recent.search(samples.to, p, recent.bound2(samples.to, p))));
-    }
+      if (samples.get(s, p))
+        out.push_back(std::sqrt(recent.search(samples.to, p, recent.bound2(samples.to, p))));
+    });
   });
 }
 

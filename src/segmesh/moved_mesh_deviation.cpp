@@ -86,12 +86,12 @@ SampleDistances measure_statistics(const Samples& samples, bool forward,
       for (size_t k = 0; k < count; ++k) out.push_back(std::sqrt(best2[k]));
       count = 0;
     };
-    for (size_t s = begin; s < end; ++s) {
+    for_each_chosen(begin, end, samples.stride, [&](size_t s) {
       double bound;
-      if (!samples.chosen(s) || !samples.get(s, forward, p[count], bound, start[count])) continue;
+      if (!samples.get(s, forward, p[count], bound, start[count])) return;
       best2[count] = bound * bound;
       if (++count == kTreeGroup) flush();
-    }
+    });
     if (count > 0) flush();
   });
 }

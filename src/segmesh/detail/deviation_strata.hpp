@@ -36,6 +36,21 @@ inline bool stratum_chosen(size_t s, size_t stride) {
   return stride == 1 || s % stride == stratum_hash(s / stride) % stride;
 }
 
+// Calls f(s) for every chosen sample s in [begin, end), in increasing order. The chosen sample of
+// each stratum is computed directly: testing every id with stratum_chosen (a hash and a 64-bit
+// division each) took a third of the statistics' time on make_big.py's bone.
+template <class F>
+void for_each_chosen(size_t begin, size_t end, size_t stride, F&& f) {
+  if (stride == 1) {
+    for (size_t s = begin; s < end; ++s) f(s);
+    return;
+  }
+  for (size_t j = begin / stride; j * stride < end; ++j) {
+    const size_t s = j * stride + stratum_hash(j) % stride;
+    if (s >= begin && s < end) f(s);
+  }
+}
+
 // The stride that leaves about `limit` of n samples (1: all of them; limit 0: no limit).
 inline size_t stratum_stride(size_t n, size_t limit) {
   return limit > 0 && n > limit ? (n + limit - 1) / limit : 1;
