@@ -105,11 +105,8 @@ class Collapser {
     DecimationStats stats;
     // Twice: the second grid shifted by half a block, so the first one's borders are inside
     // its blocks.
-    const bool asked =
-        options_.blocks == DecimateOptions::Blocks::kAlways ||
-        (options_.blocks == DecimateOptions::Blocks::kBudgetOnly && !(limit_mm_ > 0));
-    const bool blocks =
-        asked && m_.pos.size() >= 2 * kBlockVertices && (limit_mm_ > 0 || has_budget_);
+    const bool blocks = options_.blocks == DecimateOptions::Blocks::kOn &&
+                        m_.pos.size() >= 2 * kBlockVertices && (limit_mm_ > 0 || has_budget_);
     if (const double side = blocks ? decimation_block_side(m_, kBlockVertices) : 0; side > 0) {
       const size_t reached = block_phase(stats, side, 0.0, CostBuckets::bucket_count());
       block_phase(stats, side, 0.5, reached);

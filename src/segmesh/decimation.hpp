@@ -54,10 +54,14 @@
 // Afterwards up to four rounds improve the triangles' shape, each keeping every witness: a pass
 // of edge flips and one of tangential relaxation (detail/decimation_passes.hpp), and a pass that
 // collapses an edge of every sliver (radii ratio below 0.05) when the collapse's cost is within
-// the bound and its checks pass.
+// the bound and its checks pass. With `error_mm`, a flip or a move is also refused when it puts
+// the moved vertex or the centroid of a triangle it changes farther than the witnesses' share of
+// the bound from the undecimated surface (an exact search in a tree on a copy of it): the
+// witnesses bound only the other direction, and these passes, unlike a collapse, have no quadric
+// that keeps the new triangles near the old surface.
 //
-// Order: first a block phase on all threads (by default with a triangle budget alone:
-// `blocks` below), then the rest cheapest first on one. The block phase (surfaces of 32 768
+// Order: first a block phase on all threads (`blocks` below), then the rest cheapest first on
+// one. The block phase (surfaces of 32 768
 // vertices or more) lays a grid of cubes over the surface, each
 // holding about 16 384 vertices (detail/decimation_blocks.hpp). A vertex whose triangles all lie
 // in its cube is that block's core; a block collapses only edges whose two ends and all their
@@ -96,13 +100,10 @@ struct DecimateOptions {
   double error_mm = 0;                 // > 0: collapse while the quadric error stays below
   int64_t max_triangles = 0;           // > 0: the scene's budget (see "Stop" above)
   int64_t max_triangles_per_part = 0;  // > 0: every part's budget
-  // The block phase before the cheapest-first loop ("Order" above): with a triangle budget
-  // alone (the default), always, or never (the loop alone). Not with an error bound by default:
-  // the flips and relaxation after the blocks' collapses moved the inside of a triangle of
-  // big_seg 0.249 mm from the undecimated surface at `--decimate-error 0.2` (the loop alone:
-  // 0.142); those passes bound only the original vertices' distance (docs/DECIMATION.md).
-  enum class Blocks { kBudgetOnly, kAlways, kNever };
-  Blocks blocks = Blocks::kBudgetOnly;
+  // The block phase before the cheapest-first loop ("Order" above), on by default; off: the
+  // loop alone (for comparisons and tests).
+  enum class Blocks { kOn, kOff };
+  Blocks blocks = Blocks::kOn;
   bool active() const { return error_mm > 0 || max_triangles > 0 || max_triangles_per_part > 0; }
 };
 

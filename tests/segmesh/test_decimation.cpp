@@ -293,7 +293,7 @@ TEST(Decimation, IsDeterministic) {
   expect_same_meshes(a, b);
 }
 
-// The block phase (by default with a budget alone; the test-size phantom's surface has about
+// The block phase (on by default; the test-size phantom's surface has about
 // 116 000 vertices, 7 blocks) keeps the parts sound and, here, the bound, and its result does
 // not depend on the thread count; without it the loop alone does the same.
 TEST(Decimation, BlocksKeepTheBoundAndDoNotDependOnTheThreadCount) {
@@ -301,10 +301,10 @@ TEST(Decimation, BlocksKeepTheBoundAndDoNotDependOnTheThreadCount) {
   MeshingOptions o;
   const Scene before = build_scene(image, o);
   using Blocks = DecimateOptions::Blocks;
-  for (const Blocks blocks : {Blocks::kAlways, Blocks::kNever}) {
+  for (const Blocks blocks : {Blocks::kOn, Blocks::kOff}) {
     o.decimate.error_mm = 0.2;
     o.decimate.blocks = blocks;
-    const bool with = blocks == Blocks::kAlways;
+    const bool with = blocks == Blocks::kOn;
     const Scene several = build_scene(image, o);
     expect_sound_parts(several);
     ASSERT_EQ(several.parts.size(), before.parts.size());

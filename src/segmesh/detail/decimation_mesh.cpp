@@ -67,6 +67,15 @@ bool VertexTriangles::try_room(uint32_t v, uint32_t size, Room& room) {
   return true;
 }
 
+bool DecimationMesh::near_original(const Vec3d& p, double limit2, uint32_t v) {
+  if (!original) return true;
+  size_t found = original->hint[v];
+  const double d2 =
+      original->tree->nearest2(p, std::numeric_limits<double>::infinity(), found, limit2, &found);
+  original->hint[v] = uint32_t(found);
+  return d2 <= limit2;
+}
+
 DecimationMesh::DecimationMesh(LabelledSurface& surface, bool witnessing_)
     : s(surface), witnessing(witnessing_) {
   const size_t nv = s.mesh.positions.size(), nt = s.sides.size();
@@ -76,6 +85,15 @@ DecimationMesh::DecimationMesh(LabelledSurface& surface, bool witnessing_)
   junction_vertex.assign(nv, 0);
   for (uint32_t v : s.junction_vertices) junction_vertex[v] = 1;
   quadric.resize(nv);
+  if (witnessing && nt > 0) {
+    original = std::make_unique<Original>();
+    original->positions = s.mesh.positions;
+    original->indices = s.mesh.indices;
+    original->hint.assign(nv, 0);
+    for (size_t t = nt; t-- > 0;)
+      for (int k = 0; k < 3; ++k) original->hint[s.mesh.indices[3 * t + size_t(k)]] = uint32_t(t);
+    original->tree.emplace(original->positions.data(), original->indices.data(), nt);
+  }
   std::vector<char> has_witness(witnessing ? nv : 0, 0);
   if (witnessing) witnesses = std::vector<TriangleWitnesses>(nt);
   tris.build(nv, s.mesh.indices, nt);

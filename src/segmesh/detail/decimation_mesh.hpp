@@ -18,14 +18,17 @@
 #include <cstdint>
 #include <cstdlib>
 #include <deque>
+#include <memory>
 #include <new>
+#include <optional>
 #include <span>
 #include <utility>
 #include <vector>
 
+#include "segmesh/detail/ordered_triangle_tree.hpp"
 #include "segmesh/detail/quadric.hpp"
-#include "segmesh/labelled_surface.hpp"
 #include "segmesh/detail/smoothing_filters.hpp"
+#include "segmesh/labelled_surface.hpp"
 
 namespace segmesh {
 
@@ -221,6 +224,21 @@ struct DecimationMesh {
   // (0 for none): when the reach plus d is within the limit, the change adds d to the offset
   // and the reach and reads no list, the common case.
   std::vector<TriangleWitnesses> witnesses;
+  // The surface as it was before any change (a copy of its triangles and a tree on them), with
+  // an error bound only: the passes after the collapses (detail/decimation_passes.hpp) check
+  // the triangles they make against it, as the witnesses bound only the other direction.
+  struct Original {
+    std::vector<Vec3f> positions;
+    std::vector<uint32_t> indices;
+    std::optional<OrderedTriangleTree> tree;
+    // Per vertex, the original triangle nearest to its last query (at first one of its own):
+    // where the next search near it starts.
+    std::vector<uint32_t> hint;
+  };
+  std::unique_ptr<Original> original;
+  // Whether p, a point of a triangle of vertex v, is within sqrt(limit2) of the original surface
+  // (true without one). Not thread-safe: it updates v's hint.
+  bool near_original(const Vec3d& p, double limit2, uint32_t v);
   // This thread's scratch.
   static DecimationScratch& scratch() {
     thread_local DecimationScratch here;

@@ -99,6 +99,9 @@ int64_t flip_pass(DecimationMesh& m, double tolerance, double bound, double limi
       }
       if (height > allowed) continue;
       const auto [new1, new2] = flip_triangles(a, b, c, *quad);
+      if (!m.near_original((1.0 / 3.0) * (pa + pd + pc), limit2, c) ||
+          !m.near_original((1.0 / 3.0) * (pd + pb + pc), limit2, d))
+        continue;
       if (!m.flip_keeps_witnesses(t1, quad->t2, new1, new2, {a, b, c, d}, limit2)) continue;
       m.commit_witnesses();
       apply_flip(m, t1, a, b, c, *quad);
@@ -162,6 +165,16 @@ int64_t relax_pass(DecimationMesh& m, double bound, double limit2) {
       const bool better_mean = sum_after > sum_before + 1e-3 * double(ring->size()) &&
                                worst_after >= std::min(worst_before, kRelaxKeepWorst);
       if (!better_worst && !better_mean) continue;
+      bool near = m.near_original(p, limit2, v);
+      for (uint32_t t : m.tris[v]) {
+        if (!near) break;
+        if (!m.alive_tri[t]) continue;
+        const uint32_t* i = &m.s.mesh.indices[3 * size_t(t)];
+        Vec3d sum{};
+        for (int k = 0; k < 3; ++k) sum = sum + (i[k] == v ? p : m.pos[i[k]]);
+        near = m.near_original((1.0 / 3.0) * sum, limit2, v);
+      }
+      if (!near) continue;
       if (!m.collapse_keeps_witnesses(v, v, p, limit2)) continue;
       m.commit_witnesses();
       m.pos[v] = p;

@@ -1,11 +1,13 @@
 // Decimation's working state (detail/decimation_mesh.hpp): without an error bound there are no
 // witnesses, and the one collapse their check refused even then, a closed piece of the surface
-// collapsed to nothing, is still refused; any other collapse passes, as it did with them.
-#include "segmesh/detail/decimation_mesh.hpp"
-
+// collapsed to nothing, is still refused; any other collapse passes, as it did with them. With a
+// bound, points are measured against the surface as it was, whatever has moved since.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <limits>
+
+#include "segmesh/detail/decimation_mesh.hpp"
 
 namespace segmesh {
 namespace {
@@ -39,6 +41,31 @@ TEST(DecimationMesh, WithoutWitnessesAPieceIsStillNotCollapsedToNothing) {
     // A vertex moved keeps every witness when there is no bound.
     EXPECT_TRUE(t.collapse_keeps_witnesses(3, 3, {0.1, 0.1, 2}, kNoBound)) << witnessing;
   }
+}
+
+TEST(DecimationMesh, NearOriginalMeasuresAgainstTheSurfaceAsItWas) {
+  // An octahedron |x| + |y| + |z| = 1: the face x, y, z > 0 has the unit normal (1, 1, 1) / sqrt 3.
+  const LabelledSurface octahedron =
+      closed({{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}},
+             {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5});
+  const Vec3d centre{1.0 / 3, 1.0 / 3, 1.0 / 3};
+  const Vec3d out = centre + (0.3 / std::sqrt(3.0)) * Vec3d{1, 1, 1};  // 0.3 off the face
+  LabelledSurface a = octahedron;
+  DecimationMesh m(a, true);
+  EXPECT_TRUE(m.near_original(centre, 1e-12, 4));
+  EXPECT_FALSE(m.near_original(out, 0.2 * 0.2, 4));
+  EXPECT_TRUE(m.near_original(out, 0.31 * 0.31, 4));
+  // From a vertex on the far side (its hint there): the same answers.
+  EXPECT_FALSE(m.near_original(out, 0.2 * 0.2, 1));
+  EXPECT_TRUE(m.near_original(out, 0.31 * 0.31, 1));
+  // The working positions move; the original surface does not.
+  m.pos[0] = {3, 0, 0};
+  a.mesh.positions[0] = {3, 0, 0};
+  EXPECT_FALSE(m.near_original({2, 0, 0}, 0.5 * 0.5, 0));
+  // Without a bound there is nothing to keep: every point passes.
+  LabelledSurface b = octahedron;
+  DecimationMesh free_mesh(b, false);
+  EXPECT_TRUE(free_mesh.near_original(out, 0.2 * 0.2, 4));
 }
 
 }  // namespace
