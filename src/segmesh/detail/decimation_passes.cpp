@@ -98,10 +98,12 @@ int64_t flip_pass(DecimationMesh& m, double tolerance, double bound, double limi
         allowed = std::max(tolerance, bound - local);
       }
       if (height > allowed) continue;
-      const auto [new1, new2] = flip_triangles(a, b, c, *quad);
+      // The points the flip makes: the new triangles' centroids and the new edge's midpoint.
       if (!m.near_original((1.0 / 3.0) * (pa + pd + pc), limit2, c) ||
-          !m.near_original((1.0 / 3.0) * (pd + pb + pc), limit2, d))
+          !m.near_original((1.0 / 3.0) * (pd + pb + pc), limit2, d) ||
+          !m.near_original(0.5 * (pc + pd), limit2, c))
         continue;
+      const auto [new1, new2] = flip_triangles(a, b, c, *quad);
       if (!m.flip_keeps_witnesses(t1, quad->t2, new1, new2, {a, b, c, d}, limit2)) continue;
       m.commit_witnesses();
       apply_flip(m, t1, a, b, c, *quad);
@@ -165,7 +167,11 @@ int64_t relax_pass(DecimationMesh& m, double bound, double limit2) {
       const bool better_mean = sum_after > sum_before + 1e-3 * double(ring->size()) &&
                                worst_after >= std::min(worst_before, kRelaxKeepWorst);
       if (!better_worst && !better_mean) continue;
+      // The points the move makes: the vertex, its edges' midpoints and its triangles'
+      // centroids.
       bool near = m.near_original(p, limit2, v);
+      for (size_t k = 0; near && k < ring->size(); ++k)
+        near = m.near_original(0.5 * (p + m.pos[(*ring)[k]]), limit2, v);
       for (uint32_t t : m.tris[v]) {
         if (!near) break;
         if (!m.alive_tri[t]) continue;
