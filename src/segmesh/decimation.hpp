@@ -54,19 +54,18 @@
 // Afterwards up to four rounds improve the triangles' shape, each keeping every witness: a pass
 // of edge flips and one of tangential relaxation (detail/decimation_passes.hpp), and a pass that
 // collapses an edge of every sliver (radii ratio below 0.05) when the collapse's cost is within
-// the bound and its checks pass. With `error_mm`, a flip or a move is also refused when it puts
-// the moved vertex or the centroid of a triangle it changes farther than the witnesses' share of
-// the bound from the undecimated surface (an exact search in a tree on a copy of it): the
-// witnesses bound only the other direction, and these passes, unlike a collapse, have no quadric
-// that keeps the new triangles near the old surface.
+// the bound and its checks pass. With `error_mm`, a flip or a move is also refused when a point
+// it makes (a new triangle's centroid, a new edge's midpoint, the moved vertex) lies farther than
+// the witnesses' share of the bound from the undecimated surface (an exact search in a tree on a
+// copy of it): the witnesses bound only the other direction, and these passes, unlike a
+// collapse, have no quadric that keeps the new triangles near the old surface.
 //
 // Order: first a block phase on all threads (`blocks` below), then the rest cheapest first on
-// one. The block phase (surfaces of 32 768
-// vertices or more) lays a grid of cubes over the surface, each
-// holding about 16 384 vertices (detail/decimation_blocks.hpp). A vertex whose triangles all lie
-// in its cube is that block's core; a block collapses only edges whose two ends and all their
-// neighbours are its core, so what one collapse reads and writes lies in its block, and the
-// blocks run side by side, each cheapest first from its own buckets, each keeping its own
+// one. The block phase (surfaces of 32 768 vertices or more) lays a grid of cubes over the
+// surface, each holding about 16 384 vertices (detail/decimation_blocks.hpp). A vertex whose
+// triangles all lie in its cube is that block's core; a block collapses only edges whose two
+// ends and all their neighbours are its core, so what one collapse reads and writes lies in its
+// block, and the blocks run side by side, each cheapest first from its own buckets, each keeping its own
 // parts above the minimum. Without a budget every block goes to the end of the error bound at
 // once. With one budget for the surface (the scene's on a conforming surface, a part's on an
 // independent one), the blocks go in rounds of one cost bucket (4.4 % of an octave) together,
