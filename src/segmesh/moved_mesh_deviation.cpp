@@ -5,7 +5,6 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -17,8 +16,6 @@
 namespace segmesh {
 
 namespace {
-
-constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
 
 // Chosen samples up to this many ids apart are searched in groups of kTreeGroup (one walk for
 // the group: they are still near each other on the surface); farther apart, one by one
@@ -50,7 +47,7 @@ struct Samples {
     const std::vector<Vec3f>& to = forward ? after : before;
     Vec3d q;
     if (s < vertices()) {
-      if (first[s] == kNone) return false;
+      if (first[s] == kNoTriangle) return false;
       p = to_double(from[s]);
       q = to_double(to[s]);
       start = first[s];
@@ -178,18 +175,8 @@ Deviation moved_mesh_deviation(const std::vector<Vec3f>& before, const TriMesh& 
   const std::vector<uint32_t>& idx = after.indices;
   const size_t nt = after.triangle_count(), nv = after.positions.size();
   if (nt == 0) return {0, 0, 0};
-  // One triangle of every used vertex (the smallest id, whatever the schedule): where its search
-  // starts.
-  std::vector<uint32_t> first(nv, kNone);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, nt), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t t = r.begin(); t != r.end(); ++t)
-      for (int k = 0; k < 3; ++k) {
-        std::atomic_ref<uint32_t> slot(first[idx[3 * t + k]]);
-        uint32_t seen = slot.load(std::memory_order_relaxed);
-        while (t < seen && !slot.compare_exchange_weak(seen, uint32_t(t), std::memory_order_relaxed)) {
-        }
-      }
-  });
+  // One triangle of every used vertex: where its search starts.
+  const std::vector<uint32_t> first = first_triangles(idx.data(), nt, nv);
   Samples samples{before, after.positions, idx, first};
   samples.stride = stratum_stride(samples.count(), statistic_samples);
   std::optional<OrderedTriangleTree> tree_before, tree_after;

@@ -69,7 +69,8 @@ bool VertexTriangles::try_room(uint32_t v, uint32_t size, Room& room) {
 
 bool DecimationMesh::near_original(const Vec3d& p, double limit2, uint32_t v) {
   if (!original) return true;
-  size_t found = original->hint[v];
+  size_t found =
+      original->hint[v] == kNoTriangle ? OrderedTriangleTree::kNoStart : original->hint[v];
   const double d2 =
       original->tree->nearest2(p, std::numeric_limits<double>::infinity(), found, limit2, &found);
   original->hint[v] = uint32_t(found);
@@ -89,9 +90,7 @@ DecimationMesh::DecimationMesh(LabelledSurface& surface, bool witnessing_)
     original = std::make_unique<Original>();
     original->positions = s.mesh.positions;
     original->indices = s.mesh.indices;
-    original->hint.assign(nv, 0);
-    for (size_t t = nt; t-- > 0;)
-      for (int k = 0; k < 3; ++k) original->hint[s.mesh.indices[3 * t + size_t(k)]] = uint32_t(t);
+    original->hint = first_triangles(s.mesh.indices.data(), nt, nv);
     original->tree.emplace(original->positions.data(), original->indices.data(), nt);
   }
   std::vector<char> has_witness(witnessing ? nv : 0, 0);

@@ -5,6 +5,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "segmesh/detail/morton.hpp"
@@ -288,6 +289,21 @@ void RecentTriangles::add(size_t t) {
   const size_t last = std::min(at, kKept - 1);
   std::rotate(triangle_.begin(), triangle_.begin() + last, triangle_.begin() + last + 1);
   triangle_[0] = t;
+}
+
+std::vector<uint32_t> first_triangles(const uint32_t* idx, size_t n, size_t nv) {
+  std::vector<uint32_t> first(nv, kNoTriangle);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t t = r.begin(); t != r.end(); ++t)
+      for (int k = 0; k < 3; ++k) {
+        std::atomic_ref<uint32_t> slot(first[idx[3 * t + size_t(k)]]);
+        uint32_t seen = slot.load(std::memory_order_relaxed);
+        while (t < seen &&
+               !slot.compare_exchange_weak(seen, uint32_t(t), std::memory_order_relaxed)) {
+        }
+      }
+  });
+  return first;
 }
 
 std::vector<uint32_t> morton_ordered_indices(const Vec3f* pos, const uint32_t* idx, size_t n) {

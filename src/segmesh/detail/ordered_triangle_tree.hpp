@@ -106,6 +106,12 @@ class RecentTriangles {
   size_t kept_ = 0;
 };
 
+// For each of nv vertices, the smallest id among the n triangles idx[3t..3t+2] that use it, or
+// kNoTriangle when none does: where a search for a point near the vertex starts (the triangle's
+// leaf). Parallel; the same for any thread count.
+inline constexpr uint32_t kNoTriangle = std::numeric_limits<uint32_t>::max();
+std::vector<uint32_t> first_triangles(const uint32_t* idx, size_t n, size_t nv);
+
 // The n triangles idx[3t..3t+2] over pos as a new index array in the Morton order of their
 // centroids (ties by triangle id): for a tree over a mesh whose own order is not compact in space
 // (a decimated mesh, or one from a file). Parallel; the same for any thread count.
