@@ -14,6 +14,7 @@ packages=(
   ccache                                        # compiler cache: fresh clones rebuild from it
   libinsighttoolkit5-dev zlib1g-dev             # volume formats (NIfTI, NRRD, MHA, DICOM)
   libtbb-dev                                    # threads (oneTBB)
+  libjemalloc-dev                               # the programs' malloc, with huge pages (src/segmesh_alloc)
   libcli11-dev nlohmann-json3-dev               # command line, JSON (reports, glTF)
   googletest libgtest-dev python3-numpy python3-scipy  # tests (../shared/tools/mesh_metrics.py)
   libdeflate-dev                                # fast gzip inflate (.nii.gz, .seg.nrrd)
