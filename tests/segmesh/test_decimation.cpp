@@ -243,8 +243,12 @@ TEST(Decimation, ThePhantomWithinTwoTenthsOfAMillimetreKeepsItsContacts) {
   }
   const int64_t n0 = total_triangles(before), n1 = total_triangles(after);
   EXPECT_GE(n0, 5 * n1) << n0 << " -> " << n1;
-  // Decimation makes no new sliver.
+  // Decimation makes no new sliver, and the flips that may use the whole bound (checked
+  // against the original surface both ways) leave at most 0.2 % of the triangles slivers: 34 of
+  // 30 838 when they were allowed, 379 of 30 798 when they took only what the corners' quadrics
+  // left of the bound.
   EXPECT_LE(slivers_after, slivers_before);
+  EXPECT_LE(500 * slivers_after, n1) << slivers_after << " slivers in " << n1 << " triangles";
   std::printf("phantom (test size): %lld -> %lld triangles, slivers %lld -> %lld\n",
               (long long)n0, (long long)n1, (long long)slivers_before, (long long)slivers_after);
 

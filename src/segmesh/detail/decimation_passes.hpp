@@ -22,10 +22,12 @@ namespace segmesh {
 // other diagonal is not an edge already (no shell gets a doubled edge), neither new triangle
 // turns more than 60 degrees from the quad's normal, the surface moves at most `tolerance`
 // (the height of the tetrahedron of the two diagonals; when the flip removes a sliver, radii
-// ratio below 0.05, at most `bound` less the largest quadric error of the quad's corners, if
-// that is more), the new points stay near the original surface and every original vertex whose
-// witness was one of the two finds a new one within the bound. A flip changes both sides of a
-// contact alike and moves no vertex.
+// ratio below 0.05, at most `bound` with an error bound, else `bound` less the largest quadric
+// error of the quad's corners, if that is more), the new points stay near the original surface,
+// every original vertex whose witness was one of the two finds a new one within the bound, and,
+// for a flip that moves the surface more than `tolerance`, the original triangles near the quad
+// (their corners, edge midpoints and centroids) that were within the bound of the quad stay
+// within it. A flip changes both sides of a contact alike and moves no vertex.
 // Returns the flips made.
 int64_t flip_pass(DecimationMesh& m, double tolerance, double bound, double limit2);
 

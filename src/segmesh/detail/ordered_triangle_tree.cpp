@@ -159,6 +159,39 @@ double OrderedTriangleTree::triangle_distance2(Vec3d p, size_t t) const {
                                to_double(pos_[idx_[3 * t + 2]]));
 }
 
+template <class Visit>
+void OrderedTriangleTree::for_each_leaf_meeting(const Box& region, Visit&& visit) const {
+  const uint64_t first = (uint64_t{1} << levels_) - 1;
+  uint64_t stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const uint64_t node = stack[--top];
+    if (!boxes_[node].overlaps(region)) continue;
+    if (node < first) {  // the right child below the left, so leaves come in order
+      stack[top++] = 2 * node + 2;
+      stack[top++] = 2 * node + 1;
+      continue;
+    }
+    if (!visit(node - first)) return;
+  }
+}
+
+void OrderedTriangleTree::overlapping(Vec3d lo, Vec3d hi, std::vector<uint32_t>& out) const {
+  // The query box rounded outwards to float, so no box that meets it in double is missed.
+  const Box query{{std::nextafter(float(lo.x), -kInfF), std::nextafter(float(lo.y), -kInfF),
+                   std::nextafter(float(lo.z), -kInfF)},
+                  {std::nextafter(float(hi.x), kInfF), std::nextafter(float(hi.y), kInfF),
+                   std::nextafter(float(hi.z), kInfF)}};
+  for_each_leaf_meeting(query, [&](uint64_t leaf) {
+    for (size_t t = leaf_begin(leaf), end = leaf_begin(leaf + 1); t < end; ++t) {
+      if (Box::of(pos_[idx_[3 * t]], pos_[idx_[3 * t + 1]], pos_[idx_[3 * t + 2]]).overlaps(query))
+        out.push_back(uint32_t(t));
+    }
+    return true;
+  });
+}
+
 double OrderedTriangleTree::nearest2(Vec3d p, double bound2, size_t start, double enough2,
                                      size_t* nearest) const {
   double best = bound2;
@@ -239,20 +272,8 @@ void OrderedTriangleTree::nearest2_group(const Vec3d* p, double* bound2, const s
     }
   }
   if (!any) return;
-  const uint64_t first = (uint64_t{1} << levels_) - 1;
-  uint64_t stack[64];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const uint64_t node = stack[--top];
-    if (!boxes_[node].overlaps(region)) continue;
-    if (node < first) {
-      stack[top++] = 2 * node + 2;
-      stack[top++] = 2 * node + 1;
-      continue;
-    }
-    const uint64_t leaf = node - first;
-    const Box& nb = boxes_[node];
+  for_each_leaf_meeting(region, [&](uint64_t leaf) {
+    const Box& nb = boxes_[(uint64_t{1} << levels_) - 1 + leaf];
     const double lo[3] = {nb.lo[0], nb.lo[1], nb.lo[2]}, hi[3] = {nb.hi[0], nb.hi[1], nb.hi[2]};
     bool left = false;
     for (size_t k = 0; k < count; ++k) {
@@ -263,8 +284,8 @@ void OrderedTriangleTree::nearest2_group(const Vec3d* p, double* bound2, const s
       }
       left = left || active[k];
     }
-    if (!left) return;
-  }
+    return left;
+  });
 }
 
 double RecentTriangles::bound2(const OrderedTriangleTree& tree, Vec3d p, double enough2) {

@@ -43,6 +43,9 @@ class OrderedTriangleTree {
   // The squared distance from p to triangle t, exactly as the searches compute it.
   double triangle_distance2(Vec3d p, size_t t) const;
 
+  // Appends to `out` every triangle whose box meets the box [lo, hi], in the tree's order.
+  void overlapping(Vec3d lo, Vec3d hi, std::vector<uint32_t>& out) const;
+
   // The same for a group of nearby points (count <= kTreeGroup), bound2[k] updated in place and
   // start[k] required: after the start leaves, one walk down the tree collects the leaves near
   // the whole group (within each point's best distance so far), and each point tests only those;
@@ -68,6 +71,10 @@ class OrderedTriangleTree {
   void leaf_boxes(uint64_t leaf, LeafBoxes& out) const;
   void test_leaf(Vec3d p, uint64_t leaf, double& best, double enough2,
                  size_t* nearest = nullptr, const LeafBoxes* boxes = nullptr) const;
+  // Calls visit(leaf) for every leaf whose box meets `region`, in leaf order, until it returns
+  // false.
+  template <class Visit>
+  void for_each_leaf_meeting(const Box& region, Visit&& visit) const;
 
   const Vec3f* pos_;
   const uint32_t* idx_;

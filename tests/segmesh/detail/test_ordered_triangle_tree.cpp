@@ -90,6 +90,41 @@ TEST(OrderedTriangleTree, NearestEqualsBruteForceAndNamesTheTriangleInEitherOrde
   }
 }
 
+TEST(OrderedTriangleTree, OverlappingListsExactlyTheTrianglesWhoseBoxesMeetTheQuery) {
+  const Soup s = soup(3000, 11);
+  const OrderedTriangleTree tree(s.pos.data(), s.idx.data(), s.n);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-6, 6), size(0, 3);
+  size_t listed = 0;
+  for (int q = 0; q < 200; ++q) {
+    const Vec3d lo{u(rng), u(rng), u(rng)};
+    const Vec3d hi = lo + Vec3d{size(rng), size(rng), size(rng)};
+    std::vector<uint32_t> found;
+    tree.overlapping(lo, hi, found);
+    std::vector<uint32_t> expected;
+    for (uint32_t t = 0; t < s.n; ++t) {
+      bool meets = true;
+      for (int a = 0; a < 3; ++a) {
+        double tlo = std::numeric_limits<double>::infinity(), thi = -tlo;
+        for (int k = 0; k < 3; ++k) {
+          const Vec3f v = s.pos[s.idx[3 * t + k]];
+          const double c = a == 0 ? v.x : a == 1 ? v.y : v.z;
+          tlo = std::min(tlo, c);
+          thi = std::max(thi, c);
+        }
+        const double qlo = a == 0 ? lo.x : a == 1 ? lo.y : lo.z;
+        const double qhi = a == 0 ? hi.x : a == 1 ? hi.y : hi.z;
+        meets = meets && tlo <= qhi && qlo <= thi;
+      }
+      if (meets) expected.push_back(t);
+    }
+    // In the tree's order, which is the triangles' own: ascending, each once.
+    EXPECT_EQ(found, expected) << "query " << q;
+    listed += found.size();
+  }
+  EXPECT_GT(listed, 1000u);  // the queries meet triangles, not only empty space
+}
+
 TEST(OrderedTriangleTree, MortonOrderIsAPermutationOfTheTrianglesAndCompactInSpace) {
   const Soup s = soup(4096, 5);
   const std::vector<Vec3f>& pos = s.pos;
