@@ -20,6 +20,7 @@ and renamed into place at the end, and a new attempt removes the case's own left
 """
 
 import argparse
+import ctypes.util
 import os
 import sys
 import time
@@ -137,14 +138,31 @@ def run_cohort(cases, out_dir, client, settings, *, retries=2, quiet=False):
     return rows
 
 
+def _worker_allocator():
+    """Environment for the local workers: jemalloc on huge pages, preloaded, as the `segmesh`
+    program allocates (docs/PERFORMANCE.md, "The programs' allocator": twice as fast on the
+    phantom), where jemalloc is installed (Debian's libjemalloc2) and this environment preloads
+    nothing already (LD_PRELOAD set, even empty, leaves the workers as they are)."""
+    if "LD_PRELOAD" in os.environ:
+        return {}
+    name = ctypes.util.find_library("jemalloc")
+    if not name:
+        return {}
+    return {"LD_PRELOAD": name,
+            "MALLOC_CONF": os.environ.get("MALLOC_CONF", "thp:always,metadata_thp:auto")}
+
+
 def _local_cluster(workers, retries):
     import dask
     from distributed import LocalCluster
 
     # The scheduler runs in this process: a case is rescheduled after its worker died this
     # many times. No dashboard (no fixed port to collide on), no memory limit (as the CLI:
-    # a case that runs out of memory fails on its own), loopback only.
-    with dask.config.set({"distributed.scheduler.allowed-failures": retries}):
+    # a case that runs out of memory fails on its own), loopback only. The worker processes
+    # start with the programs' allocator (_worker_allocator).
+    environ = {**dask.config.get("distributed.nanny.pre-spawn-environ", {}), **_worker_allocator()}
+    with dask.config.set({"distributed.scheduler.allowed-failures": retries,
+                          "distributed.nanny.pre-spawn-environ": environ}):
         return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                             host="127.0.0.1", dashboard_address=None, memory_limit=0)
 

@@ -165,6 +165,27 @@ class DaskBatch(unittest.TestCase):
             for name in ("a_seg", "b_seg", "spine_seg"):
                 self.assertTrue(os.path.exists(os.path.join(out, name, "case.json")), name)
 
+    def test_local_workers_allocate_with_jemalloc(self):
+        """The local cluster's workers run on the segmesh program's allocator: jemalloc, preloaded
+        (segmesh.batch._worker_allocator), where it is installed."""
+        import ctypes.util
+        if ctypes.util.find_library("jemalloc") is None or "LD_PRELOAD" in os.environ:
+            self.skipTest("no jemalloc installed, or LD_PRELOAD set by the environment")
+        from distributed import Client
+        from segmesh.batch import _local_cluster
+        cluster = _local_cluster(1, 0)
+        try:
+            with Client(cluster) as client:
+                maps = client.run(lambda: open("/proc/self/maps").read())
+                conf = client.run(lambda: os.environ.get("MALLOC_CONF"))
+        finally:
+            cluster.close()
+        self.assertEqual(len(maps), 1)
+        for worker, text in maps.items():
+            self.assertIn("libjemalloc", text, worker)
+        expected = os.environ.get("MALLOC_CONF", "thp:always,metadata_thp:auto")
+        self.assertEqual(set(conf.values()), {expected})
+
     def test_bad_arguments_exit_2_and_write_nothing(self):
         heart = data("dcmqi", "heart_seg.nrrd")
         with TempDir() as tmp:
